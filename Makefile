@@ -1,0 +1,41 @@
+# morphserve — the two commands: `make serve` and `make test`.
+# Needs only Python 3.11+ and make; everything else is installed into .venv.
+
+PYTHON ?= $(shell command -v python3.11 2>/dev/null || command -v python3)
+VENV   := .venv
+BIN    := $(VENV)/bin
+HOST   ?= 127.0.0.1
+PORT   ?= 8000
+MORPHSERVE_DATA_DIR ?= ./data
+export MORPHSERVE_DATA_DIR
+PYTEST_ARGS ?=
+
+.PHONY: serve test openapi bench clean
+
+$(BIN)/python:
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+
+# Stamp files: reinstall when pyproject.toml changes.
+$(VENV)/.installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e .
+	@touch $@
+
+$(VENV)/.installed-test: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e '.[test]'
+	@touch $@ $(VENV)/.installed
+
+serve: $(VENV)/.installed
+	$(BIN)/morphserve serve --host $(HOST) --port $(PORT) --data-dir $(MORPHSERVE_DATA_DIR)
+
+test: $(VENV)/.installed-test
+	$(BIN)/python -m pytest $(PYTEST_ARGS)
+
+openapi: $(VENV)/.installed
+	$(BIN)/python -m service.openapi openapi/openapi.json
+
+bench: $(VENV)/.installed-test
+	$(BIN)/python bench/service_overhead.py
+
+clean:
+	rm -rf $(VENV) build *.egg-info .pytest_cache
