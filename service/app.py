@@ -1,0 +1,91 @@
+"""The FastAPI application: ``create_app(settings)``.
+
+The lifespan opens the job store, starts the Dask engine (embedded LocalCluster or an external
+scheduler) and resubmits unfinished jobs; on shutdown it closes them in reverse order.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from typing import Any
+
+from fastapi import FastAPI
+from fastapi.routing import APIRoute
+
+from service.callbacks import Notifier
+from service.errors import install_handlers
+from service.jobs.engine import Engine
+from service.jobs.store import JobRecord, JobStore
+from service.representation import results_document, status_info
+from service.routes import jobs, landing, processes
+from service.routes.common import State
+from service.settings import Settings, get_settings
+
+__all__ = ["create_app"]
+
+log = logging.getLogger("morphserve")
+
+
+def _operation_id(route: APIRoute) -> str:
+    return route.operation_id or route.name
+
+
+def _wire_callbacks(engine: Engine, store: JobStore, notifier: Notifier) -> None:
+    def on_finish(job: JobRecord, outcome: dict[str, Any]) -> None:
+        sub = job.request.get("subscriber") or {}
+        if not sub:
+            return
+        current = store.get(job.id) or job
+        if outcome["status"] == "successful" and "successUri" in sub:
+            notifier.send(sub["successUri"], results_document(outcome["outputs"], job.request))
+        elif outcome["status"] != "successful" and "failedUri" in sub:
+            notifier.send(sub["failedUri"], status_info(current))
+
+    def on_start(job_id: str) -> None:
+        job = store.get(job_id)
+        uri = (job.request.get("subscriber") or {}).get("inProgressUri") if job else None
+        if job and uri:
+            notifier.send(uri, status_info(job))
+
+    engine.on_finish.append(on_finish)
+    engine.on_start.append(on_start)
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    settings = settings or get_settings()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        store = JobStore(settings.data_dir, fsync=settings.fsync,
+                         inline_input_bytes=settings.inline_input_bytes)
+        engine = Engine(settings, store)
+        notifier = Notifier()
+        _wire_callbacks(engine, store, notifier)
+        app.state.morphserve = State(settings=settings, store=store, engine=engine)
+        await engine.start()
+        log.info("morphserve ready: data dir %s, %s", settings.data_dir.resolve(),
+                 settings.scheduler or f"embedded cluster of {settings.workers} workers")
+        try:
+            yield
+        finally:
+            await notifier.close()
+            await engine.close()
+            store.close()
+
+    app = FastAPI(
+        title="morphserve",
+        version="0.1.0",
+        summary="Geometry jobs over OGC API – Processes.",
+        description="Send point sets, meshes or graphs with a method; get back transforms, "
+        "correspondences, embeddings or deformed geometry. Every method of the catalog is "
+        "one OGC process.",
+        lifespan=lifespan,
+        generate_unique_id_function=_operation_id,
+    )
+    install_handlers(app)
+    app.include_router(landing.router)
+    app.include_router(processes.router)
+    app.include_router(jobs.router)
+    return app

@@ -1,0 +1,507 @@
+"""The ``morphserve`` command: run the service or a worker, or talk to a running service.
+
+::
+
+    morphserve serve [--host H] [--port P] [--data-dir D] [--scheduler tcp://...] [--workers N]
+    morphserve worker [--scheduler tcp://host:8786] [--nworkers N] [--memory-limit 4GiB]
+    morphserve processes
+    morphserve describe alignment.rigid
+    morphserve execute alignment.rigid --input source=a.npy --input target=b.json \\
+        --param allow_reflection=false --wait --output result.json
+    morphserve jobs [--status running] [--process alignment.rigid] [--limit 20]
+    morphserve status JOB | results JOB [--output FILE] | dismiss JOB
+
+The client commands go through the SDK (:mod:`morphserve`) to ``--url`` (default
+``$MORPHSERVE_URL``, else http://127.0.0.1:8000). Exit status: 0 done, 1 the service or the
+network said no (``error: <title>: <detail>`` on stderr), 2 wrong usage, 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from morphserve import (
+    DEFAULT_URL,
+    JOB_STATES,
+    APIError,
+    Client,
+    JobStatus,
+    MorphserveError,
+    Results,
+    TransportError,
+    __version__,
+)
+
+__all__ = ["build_parser", "connect", "main", "parse_input", "parse_param", "worker_argv"]
+
+
+class UsageError(Exception):
+    """The command line is wrong in a way argparse cannot see (exit status 2)."""
+
+
+def connect(url: str) -> Client:
+    """The SDK client the client commands use; tests replace this to inject a transport."""
+    return Client(url)
+
+
+# -- argument types ----------------------------------------------------------------------
+
+
+def _split(text: str, form: str) -> tuple[str, str]:
+    name, sep, value = text.partition("=")
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"expected {form}, got {text!r}")
+    return name, value
+
+
+def parse_input(text: str) -> tuple[str, Any]:
+    """``NAME=FILE.json`` (a JSON value) or ``NAME=FILE.npy`` (a numpy array) → (name, value)."""
+    name, file = _split(text, "NAME=FILE.json or NAME=FILE.npy")
+    path = Path(file)
+    suffix = path.suffix.lower()
+    if suffix not in (".json", ".npy"):
+        raise argparse.ArgumentTypeError(
+            f"expected a .json or .npy file for input {name!r}, got {file!r}"
+        )
+    try:
+        if suffix == ".npy":
+            return name, np.load(path, allow_pickle=False)
+        with path.open(encoding="utf-8") as stream:
+            return name, json.load(stream)
+    except OSError as error:
+        raise argparse.ArgumentTypeError(f"cannot read {file}: {error.strerror or error}") from None
+    except ValueError as error:  # bad JSON, or not an .npy file, or an object array
+        raise argparse.ArgumentTypeError(f"cannot read {file}: {error}") from None
+
+
+def _reject_constant(constant: str) -> Any:
+    raise ValueError(f"{constant} is not JSON")
+
+
+def parse_param(text: str) -> tuple[str, Any]:
+    """``NAME=VALUE`` → (name, value): VALUE read as JSON when it is JSON, else a string.
+
+    ``k=3`` gives 3, ``k=true`` True, ``k=[1,2]`` a list, ``k=svd`` and ``k=NaN`` strings.
+    """
+    name, value = _split(text, "NAME=VALUE")
+    try:
+        return name, json.loads(value, parse_constant=_reject_constant)
+    except ValueError:
+        return name, value
+
+
+def _positive_int(text: str) -> int:
+    try:
+        number = int(text)
+    except ValueError:
+        number = 0
+    if number < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number of 1 or more, got {text!r}")
+    return number
+
+
+def _port(text: str) -> int:
+    number = _positive_int(text)
+    if number > 65535:
+        raise argparse.ArgumentTypeError(f"expected a port up to 65535, got {text!r}")
+    return number
+
+
+def _seconds(text: str) -> float:
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = -1.0
+    if not seconds >= 0 or seconds == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected seconds, 0 or more, got {text!r}")
+    return seconds
+
+
+# -- output ------------------------------------------------------------------------------
+
+
+def _table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    cells = [list(headers)] + [["" if c is None else str(c) for c in row] for row in rows]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(headers))]
+    return "\n".join(
+        "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in cells
+    )
+
+
+def _schema_type(schema: Any) -> str:
+    """A short name for a JSON Schema: ``number``, ``array[array[number]]``, ``integer|null``."""
+    if not isinstance(schema, dict):
+        return "any"
+    kind = schema.get("type")
+    if isinstance(kind, list):
+        return "|".join(map(str, kind))
+    if kind == "array" and isinstance(schema.get("items"), dict):
+        return f"array[{_schema_type(schema['items'])}]"
+    if kind:
+        return str(kind)
+    for key in ("anyOf", "oneOf"):
+        if isinstance(schema.get(key), list):
+            return "|".join(_schema_type(s) for s in schema[key])
+    if "$ref" in schema:
+        return str(schema["$ref"]).rsplit("/", 1)[-1]
+    if "enum" in schema:
+        return "enum"
+    return "any"
+
+
+def _input_use(description: dict[str, Any]) -> str:
+    schema = description.get("schema") or {}
+    if (description.get("minOccurs", 1) or 0) >= 1:
+        return "required"
+    if isinstance(schema, dict) and "default" in schema:
+        return f"default {json.dumps(schema['default'])}"
+    return "optional"
+
+
+def _status_lines(status: JobStatus) -> str:
+    fields = [
+        ("job", status.job_id),
+        ("process", status.process_id),
+        ("status", status.status),
+        ("progress", None if status.progress is None else f"{status.progress}%"),
+        ("message", status.message),
+        ("created", status.created),
+        ("started", status.started),
+        ("finished", status.finished),
+        ("updated", status.updated),
+    ]
+    return "\n".join(
+        f"{name:<9}{'' if value is None else value}".rstrip() for name, value in fields
+    )
+
+
+def _put_results(results: Results, output: Path | None) -> None:
+    text = json.dumps(results.raw)
+    if output is None:
+        print(text)
+        return
+    try:
+        output.write_text(text + "\n", encoding="utf-8")
+    except OSError as error:
+        raise MorphserveError(f"cannot write {output}: {error.strerror or error}") from None
+    print(f"results written to {output}", file=sys.stderr)
+
+
+# -- commands ----------------------------------------------------------------------------
+
+
+def _serve(args: argparse.Namespace) -> int:
+    from service.server import run  # the web stack loads only for this command
+
+    run(
+        host=args.host,
+        port=args.port,
+        data_dir=args.data_dir,
+        scheduler=args.scheduler,
+        workers=args.workers,
+    )
+    return 0
+
+
+def _cpu_count() -> int:
+    try:
+        return len(os.sched_getaffinity(0))  # the CPUs this process may use (cgroups, taskset)
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def worker_argv(
+    scheduler: str,
+    *,
+    nworkers: int | None = None,
+    memory_limit: str | None = None,
+    name: str | None = None,
+) -> list[str]:
+    """The ``dask worker`` command line ``morphserve worker`` runs: one thread per process.
+
+    ``nworkers`` defaults to the number of CPUs this process may use; ``memory_limit`` (per
+    process, such as ``4GiB``) and ``name`` are passed on when given.
+    """
+    argv = [sys.executable, "-m", "distributed.cli.dask_worker", scheduler]
+    argv += ["--nthreads", "1", "--nworkers", str(nworkers or _cpu_count())]
+    if memory_limit is not None:
+        argv += ["--memory-limit", memory_limit]
+    if name is not None:
+        argv += ["--name", name]
+    return argv
+
+
+def _worker(args: argparse.Namespace) -> int:
+    scheduler = args.scheduler or os.environ.get("MORPHSERVE_SCHEDULER")
+    if not scheduler:
+        raise UsageError("worker needs --scheduler tcp://HOST:8786 or MORPHSERVE_SCHEDULER")
+    argv = worker_argv(
+        scheduler, nworkers=args.nworkers, memory_limit=args.memory_limit, name=args.name
+    )
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os.execv(argv[0], argv)
+    return 0  # not reached: execv replaces this process
+
+
+def _processes(args: argparse.Namespace) -> int:
+    with connect(args.url) as client:
+        processes = client.processes()
+    print(_table(["ID", "TITLE"], [(p.id, p.title) for p in processes]))
+    return 0
+
+
+def _describe(args: argparse.Namespace) -> int:
+    with connect(args.url) as client:
+        process = client.describe(args.process)
+    version = f" (version {process.version})" if process.version else ""
+    print(f"{process.id}: {process.title}{version}")
+    if process.description:
+        print(process.description)
+    inputs = [
+        (name, _schema_type(spec.get("schema")), _input_use(spec), spec.get("title", ""))
+        for name, spec in process.inputs.items()
+    ]
+    outputs = [
+        (name, _schema_type(spec.get("schema")), spec.get("title", ""))
+        for name, spec in process.outputs.items()
+    ]
+    print("\ninputs:")
+    print(_indent(_table(["NAME", "TYPE", "USE", "TITLE"], inputs)))
+    print("\noutputs:")
+    print(_indent(_table(["NAME", "TYPE", "TITLE"], outputs)))
+    return 0
+
+
+def _indent(text: str) -> str:
+    return "\n".join("  " + line for line in text.splitlines())
+
+
+def _execute(args: argparse.Namespace) -> int:
+    if not args.wait and (args.timeout is not None or args.output is not None):
+        raise UsageError("execute: --timeout and --output need --wait")
+    inputs: dict[str, Any] = {}
+    for name, value in [*args.inputs, *args.params]:
+        if name in inputs:
+            raise UsageError(f"execute: input {name!r} given twice")
+        inputs[name] = value
+    with connect(args.url) as client:
+        job = client.execute(args.process, **inputs)
+        if not args.wait:
+            print(job.id)
+            return 0
+        try:
+            job.wait(timeout=args.timeout, progress=not args.no_progress)
+        except KeyboardInterrupt:
+            print(
+                f"interrupted; job {job.id} goes on (morphserve dismiss {job.id} stops it)",
+                file=sys.stderr,
+            )
+            return 130
+        _put_results(job.results(), args.output)
+    return 0
+
+
+def _jobs(args: argparse.Namespace) -> int:
+    with connect(args.url) as client:
+        jobs = client.jobs(status=args.status, process=args.process, limit=args.limit)
+    rows = [
+        (
+            j.job_id,
+            j.process_id,
+            j.status,
+            None if j.progress is None else f"{j.progress}%",
+            j.created.isoformat(timespec="seconds") if j.created else None,
+            j.message,
+        )
+        for j in jobs
+    ]
+    print(_table(["JOB", "PROCESS", "STATUS", "PROGRESS", "CREATED", "MESSAGE"], rows))
+    return 0
+
+
+def _status(args: argparse.Namespace) -> int:
+    with connect(args.url) as client:
+        print(_status_lines(client.job(args.job).status()))
+    return 0
+
+
+def _results(args: argparse.Namespace) -> int:
+    with connect(args.url) as client:
+        _put_results(client.job(args.job).results(), args.output)
+    return 0
+
+
+def _dismiss(args: argparse.Namespace) -> int:
+    with connect(args.url) as client:
+        status = client.job(args.job).dismiss()
+    print(f"{status.job_id} {status.status}")
+    return 0
+
+
+# -- parser ------------------------------------------------------------------------------
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of the ``morphserve`` command; defaults come from the environment now."""
+    parser = argparse.ArgumentParser(
+        prog="morphserve",
+        description="A geometry job service over OGC API - Processes: run it, or talk to it.",
+    )
+    parser.add_argument(
+        "--url",
+        default=os.environ.get("MORPHSERVE_URL") or DEFAULT_URL,
+        help=f"the service, for the client commands (default: $MORPHSERVE_URL, else {DEFAULT_URL})",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    # --url is also accepted after a client command; SUPPRESS keeps the global value otherwise
+    remote = argparse.ArgumentParser(add_help=False)
+    remote.add_argument("--url", default=argparse.SUPPRESS, help="the service")
+
+    def command(name: str, run: Callable[[argparse.Namespace], int], text: str, **kw: Any) -> Any:
+        sub = commands.add_parser(name, help=text, description=text, **kw)
+        sub.set_defaults(run=run)
+        return sub
+
+    serve = command("serve", _serve, "Run the HTTP service (with an embedded Dask cluster).")
+    serve.add_argument(
+        "--host",
+        default=os.environ.get("HOST") or "127.0.0.1",
+        help="(default: $HOST, else %(default)s)",
+    )
+    serve.add_argument(
+        "--port",
+        type=_port,
+        default=os.environ.get("PORT") or "8000",
+        help="(default: $PORT, else 8000)",
+    )
+    serve.add_argument(
+        "--data-dir",
+        type=Path,
+        help="job store and results (default: $MORPHSERVE_DATA_DIR, else ./data)",
+    )
+    serve.add_argument(
+        "--scheduler",
+        help="an external Dask scheduler, tcp://HOST:8786 (default: $MORPHSERVE_SCHEDULER, "
+        "else an embedded cluster)",
+    )
+    serve.add_argument(
+        "--workers",
+        type=_positive_int,
+        help="processes of the embedded cluster (default: $MORPHSERVE_WORKERS, else 2)",
+    )
+
+    worker = command("worker", _worker, "Run Dask workers for an external scheduler.")
+    worker.add_argument("--scheduler", help="tcp://HOST:8786 (default: $MORPHSERVE_SCHEDULER)")
+    worker.add_argument(
+        "--nworkers",
+        type=_positive_int,
+        help="worker processes, one thread each (default: the CPUs)",
+    )
+    worker.add_argument("--memory-limit", help="per worker process, such as 4GiB (default: auto)")
+    worker.add_argument("--name", help="worker name; a process number is appended")
+
+    command("processes", _processes, "List the processes.", parents=[remote])
+
+    describe = command(
+        "describe", _describe, "Show a process's inputs and outputs.", parents=[remote]
+    )
+    describe.add_argument("process", metavar="ID")
+
+    execute = command("execute", _execute, "Start a job (and wait for it).", parents=[remote])
+    execute.add_argument("process", metavar="ID")
+    execute.add_argument(
+        "--input",
+        dest="inputs",
+        action="append",
+        type=parse_input,
+        default=[],
+        metavar="NAME=FILE",
+        help="an input from a .json (a JSON value) or .npy file; repeatable",
+    )
+    execute.add_argument(
+        "--param",
+        dest="params",
+        action="append",
+        type=parse_param,
+        default=[],
+        metavar="NAME=VALUE",
+        help="an input; VALUE is read as JSON when it is JSON, else as a string; repeatable",
+    )
+    execute.add_argument(
+        "--wait", action="store_true", help="wait for the job and print its results"
+    )
+    execute.add_argument(
+        "--timeout", type=_seconds, metavar="S", help="with --wait: give up after S seconds"
+    )
+    execute.add_argument(
+        "--output", type=Path, metavar="FILE", help="with --wait: write the results here"
+    )
+    execute.add_argument("--no-progress", action="store_true", help="with --wait: no progress bar")
+
+    jobs = command("jobs", _jobs, "List jobs.", parents=[remote])
+    jobs.add_argument("--status", action="append", choices=JOB_STATES, help="repeatable")
+    jobs.add_argument("--process", metavar="ID")
+    jobs.add_argument(
+        "--limit", type=_positive_int, metavar="N", help="at most N jobs (default: 1000)"
+    )
+
+    for name, run, text in [
+        ("status", _status, "Show where a job stands."),
+        ("results", _results, "Print a job's results as JSON."),
+        ("dismiss", _dismiss, "Cancel a job, or remove a finished one."),
+    ]:
+        sub = command(name, run, text, parents=[remote])
+        sub.add_argument("job", metavar="JOB")
+        if name == "results":
+            sub.add_argument("--output", type=Path, metavar="FILE", help="write the results here")
+    return parser
+
+
+def _report(error: MorphserveError, url: str) -> None:
+    if isinstance(error, APIError):
+        print(
+            f"error: {error.title}: {error.detail}" if error.detail else f"error: {error.title}",
+            file=sys.stderr,
+        )
+        for field in error.errors:
+            print(f"  {field.get('input', '?')}: {field.get('message', '')}", file=sys.stderr)
+    elif isinstance(error, TransportError):
+        print(f"error: cannot reach {url}: {error}", file=sys.stderr)
+    else:
+        print(f"error: {error}", file=sys.stderr)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command; return its exit status (0 done, 1 refused, 2 usage, 130 interrupted)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help, --version, or a usage error already printed
+        return stop.code if isinstance(stop.code, int) else 0 if stop.code is None else 2
+    try:
+        return int(args.run(args))
+    except UsageError as error:
+        parser.print_usage(sys.stderr)
+        print(f"{parser.prog}: error: {error}", file=sys.stderr)
+        return 2
+    except MorphserveError as error:
+        _report(error, args.url)
+        return 1
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,136 @@
+"""Problem details (RFC 9457) for every error the service answers.
+
+One registry of problem types (:data:`PROBLEMS`), one exception class for errors raised by
+the service itself (:class:`ServiceError`), and one handler per error base class:
+
+==============================  ===========================================================
+raised                          answered
+==============================  ===========================================================
+``ServiceError``                its own type and status
+``algorithms`` InvalidInputError  422 ``invalid-input`` naming the input (``field``)
+``RequestValidationError``      422 ``invalid-input`` (query/path parameters)
+Starlette ``HTTPException``     404 ``not-found``, 405 ``method-not-allowed``, ...
+anything else                   500 ``internal-error`` (a bug; logged with its traceback)
+==============================  ===========================================================
+
+Each type is a page the service serves at ``/problems/{slug}``.
+"""
+
+from __future__ import annotations
+
+import html
+import logging
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import HTMLResponse
+
+from service.jsonio import JSONResponse
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from algorithms.core.errors import GeometryError
+from service.problems import (
+    PROBLEMS,
+    ProblemType,
+    geometry_error_problem,
+    problem_body,
+    pydantic_errors,
+)
+
+__all__ = [
+    "PROBLEMS",
+    "ProblemType",
+    "ServiceError",
+    "problem_body",
+    "problem_response",
+    "install_handlers",
+    "PROBLEM_JSON",
+]
+
+log = logging.getLogger("morphserve")
+
+PROBLEM_JSON = "application/problem+json"
+
+
+class ServiceError(Exception):
+    """An error the service answers with the problem type ``slug``."""
+
+    def __init__(
+        self,
+        slug: str,
+        detail: str,
+        *,
+        errors: list[dict[str, str]] | None = None,
+        status: int | None = None,
+        headers: dict[str, str] | None = None,
+    ) -> None:
+        super().__init__(detail)
+        self.problem = PROBLEMS[slug]
+        self.detail = detail
+        self.errors = errors
+        self.status = status or self.problem.status
+        self.headers = headers or {}
+
+
+def problem_response(body: dict[str, Any], headers: dict[str, str] | None = None) -> JSONResponse:
+    return JSONResponse(body, status_code=body["status"], media_type=PROBLEM_JSON,
+                        headers=headers)
+
+
+_STATUS_SLUG = {400: "malformed-body", 401: "unauthorized", 404: "not-found",
+                405: "method-not-allowed", 406: "not-acceptable", 413: "payload-too-large",
+                415: "unsupported-media-type", 429: "queue-full", 503: "service-unavailable"}
+
+
+def install_handlers(app: FastAPI) -> None:
+    """Register one handler per error base class, and the ``/problems/{slug}`` pages."""
+
+    @app.exception_handler(ServiceError)
+    async def _service(request: Request, exc: ServiceError) -> JSONResponse:
+        body = problem_body(exc.problem.slug, exc.detail, instance=str(request.url.path),
+                            errors=exc.errors, status=exc.status)
+        return problem_response(body, exc.headers)
+
+    @app.exception_handler(GeometryError)
+    async def _geometry(request: Request, exc: GeometryError) -> JSONResponse:
+        body = geometry_error_problem(exc)
+        body["instance"] = str(request.url.path)
+        return problem_response(body)
+
+    @app.exception_handler(RequestValidationError)
+    async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
+        errors = pydantic_errors(list(exc.errors()))
+        detail = "; ".join(f"{e['input']}: {e['message']}" for e in errors) or "invalid request"
+        return problem_response(problem_body("invalid-input", detail,
+                                             instance=str(request.url.path), errors=errors))
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http(request: Request, exc: StarletteHTTPException) -> JSONResponse:
+        slug = _STATUS_SLUG.get(exc.status_code, "internal-error" if exc.status_code >= 500
+                                else "malformed-body")
+        detail = exc.detail if isinstance(exc.detail, str) else PROBLEMS[slug].title
+        if exc.status_code == 404 and detail == "Not Found":
+            detail = f"No resource at {request.url.path}."
+        if exc.status_code == 405:
+            detail = f"{request.method} is not allowed on {request.url.path}."
+        body = problem_body(slug, detail, instance=str(request.url.path),
+                            status=exc.status_code)
+        return problem_response(body, dict(exc.headers or {}))
+
+    @app.exception_handler(Exception)
+    async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
+        log.exception("unhandled error on %s %s", request.method, request.url.path)
+        body = problem_body("internal-error", f"Unexpected {type(exc).__name__}.",
+                            instance=str(request.url.path))
+        return problem_response(body)
+
+    @app.get("/problems/{slug}", include_in_schema=False)
+    async def problem_page(slug: str) -> HTMLResponse:
+        p = PROBLEMS.get(slug)
+        if p is None:
+            raise ServiceError("not-found", f"No problem type {slug!r}.")
+        page = (f"<!doctype html><title>{html.escape(p.title)}</title>"
+                f"<h1>{html.escape(p.title)}</h1><p>HTTP status {p.status}.</p>"
+                f"<p>{html.escape(p.description)}</p>")
+        return HTMLResponse(page)

@@ -1,0 +1,308 @@
+"""The execution engine: Dask distributed, embedded or external, plus a fast path.
+
+Embedded (default): a :class:`distributed.LocalCluster` with process workers, one thread each,
+started with the service. External: ``MORPHSERVE_SCHEDULER=tcp://host:8786``; tasks are then
+submitted with ``fire_and_forget`` and the workers write their outputs to the shared data dir,
+so work survives a restarting API.
+
+Fast path: a round trip through the scheduler costs ~11 ms on a 2-core machine, more than a
+closed-form job on a thousand points takes. Jobs of processes marked ``fast_path`` whose inputs
+are at most ``fast_path_bytes`` run on a small thread pool inside the service instead. They are
+recorded, reported, dismissable and time-limited exactly like the others; after a restart they
+are resubmitted through Dask, never in-process, so a job that crashes the service cannot do it
+twice.
+
+For every job the engine keeps a :class:`_Handle` and a watcher task that records the outcome
+in the store and wakes the requests waiting on it (``Prefer: wait``). Progress events
+(``log_event`` on :data:`~service.jobs.runner.TOPIC`, or direct calls on the fast path) update
+the rows. Dismissal sets the job's ``distributed.Event`` (or its in-process flag), which the
+runner's progress callback sees; a Dask job that outlives its time limit by :data:`GRACE`
+seconds without cooperating gets its worker restarted.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import threading
+import time
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import Any
+
+import dask
+from distributed import Client, Event, LocalCluster, WorkerPlugin, fire_and_forget
+from distributed.client import Future, FutureCancelledError
+from distributed.scheduler import KilledWorker
+
+from service.jobs.runner import TOPIC, Reporter, cancel_event_name, run_job
+from service.jobs.store import JobRecord, JobStore
+from service.problems import problem_body
+from service.settings import Settings
+
+__all__ = ["Engine", "GRACE"]
+
+log = logging.getLogger("morphserve.engine")
+
+GRACE = 2.0
+"""Seconds past its time limit after which a job that ignores its cancel event is stopped
+by restarting its worker."""
+
+
+class WarmUp(WorkerPlugin):
+    """Imports the runner (and so the catalog and every algorithm) when a worker starts."""
+
+    def setup(self, worker: Any) -> None:
+        import service.jobs.runner  # noqa: F401
+
+
+@dataclass
+class _Handle:
+    job: JobRecord
+    outcome: asyncio.Future[dict[str, Any]]
+    future: Future | None = None
+    """The Dask future; None on the fast path."""
+    cancel: threading.Event = field(default_factory=threading.Event)
+    """The fast path's dismissal flag."""
+    started: float | None = None
+
+
+class Engine:
+    """Runs jobs and records their outcome in the :class:`JobStore`."""
+
+    def __init__(self, settings: Settings, store: JobStore) -> None:
+        self.settings = settings
+        self.store = store
+        self.cluster: LocalCluster | None = None
+        self.client: Client | None = None
+        self._jobs: dict[str, _Handle] = {}
+        self._tasks: set[asyncio.Task[Any]] = set()
+        self._pool = ThreadPoolExecutor(max_workers=settings.fast_path_threads,
+                                        thread_name_prefix="morphserve-fast")
+        self._closing = False
+        self.on_finish: list[Callable[[JobRecord, dict[str, Any]], Any]] = []
+        """Called with the job and its outcome when it ends (subscriber callbacks)."""
+        self.on_start: list[Callable[[str], Any]] = []
+
+    # -- life cycle --------------------------------------------------------------------------
+    async def start(self) -> None:
+        dask.config.set({"distributed.scheduler.allowed-failures":
+                         self.settings.allowed_failures})
+        if self.settings.scheduler:
+            self.client = await Client(self.settings.scheduler, asynchronous=True)
+        else:
+            self.cluster = await LocalCluster(
+                n_workers=self.settings.workers, threads_per_worker=1, processes=True,
+                asynchronous=True, dashboard_address=None, scheduler_port=0,
+                host="127.0.0.1", memory_limit=self.settings.worker_memory_limit,
+                silence_logs=logging.ERROR)
+            self.client = await Client(self.cluster, asynchronous=True)
+        self.client.subscribe_topic(TOPIC, self._on_event)
+        await self.client.register_plugin(WarmUp(), name="morphserve-warm-up")
+        await self.recover()
+        self._spawn(self._sweep())
+
+    async def close(self) -> None:
+        self._closing = True
+        for task in list(self._tasks):
+            task.cancel()
+        for handle in self._jobs.values():
+            handle.cancel.set()
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        if self.client is not None:
+            await self.client.close()
+        if self.cluster is not None:
+            await self.cluster.close()
+
+    def _spawn(self, coro: Any) -> asyncio.Task[Any]:
+        task = asyncio.get_running_loop().create_task(coro)
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+        return task
+
+    async def n_workers(self) -> int:
+        if self.client is None:
+            return 0
+        try:
+            return len(await self.client.nthreads())
+        except Exception:  # scheduler gone
+            return 0
+
+    # -- submission --------------------------------------------------------------------------
+    def submit(self, job: JobRecord, payload: dict[str, Any] | str, *,
+               fast: bool = False) -> None:
+        """Run ``job``: on the fast path when ``fast`` (payload must be the inputs), else on
+        Dask. Returns at once; :meth:`wait` waits."""
+        handle = _Handle(job, asyncio.get_running_loop().create_future())
+        self._jobs[job.id] = handle
+        if fast and isinstance(payload, dict):
+            self._spawn(self._run_fast(handle, payload))
+            return
+        assert self.client is not None, "engine not started"
+        persist = self.settings.scheduler is not None
+        handle.future = self.client.submit(
+            run_job, job.id, job.process, payload, str(self.store.data_dir), job.time_limit,
+            self.settings.fsync, self.settings.test_processes, persist,
+            key=f"morphserve-{job.id}", pure=False)
+        if persist:
+            fire_and_forget(handle.future)
+        self._spawn(self._watch(handle))
+
+    async def recover(self) -> None:
+        """Finish what a previous run of the service left: complete rows whose outputs a
+        worker wrote, resubmit the others (through Dask)."""
+        jobs = self.store.unfinished()
+        resubmitted = 0
+        for job in jobs:
+            if self.store.result_file_exists(job.id):
+                self.store.finish(job.id, "successful", "done (recovered after a restart)")
+                continue
+            self.store.requeue(job.id)
+            self.submit(job, self.store.payload(job))
+            resubmitted += 1
+        if jobs:
+            log.warning("recovered %d unfinished jobs, %d resubmitted", len(jobs), resubmitted)
+
+    async def wait(self, job_id: str, timeout: float) -> dict[str, Any] | None:
+        """The job's outcome if it ends within ``timeout`` seconds, else ``None`` (also when
+        the job is not running here, e.g. already finished: read the store then)."""
+        handle = self._jobs.get(job_id)
+        if handle is None:
+            return None
+        try:
+            return await asyncio.wait_for(asyncio.shield(handle.outcome), timeout)
+        except TimeoutError:
+            return None
+
+    async def dismiss(self, job_id: str) -> None:
+        """Stop a queued or running job (the store row is marked by the caller)."""
+        handle = self._jobs.get(job_id)
+        if handle is None:
+            return
+        handle.cancel.set()
+        if handle.future is not None:
+            await self._signal_cancel(job_id)
+            await handle.future.cancel()
+
+    async def _signal_cancel(self, job_id: str) -> None:
+        try:
+            await Event(cancel_event_name(job_id), client=self.client).set()
+        except Exception:  # the scheduler is gone: nothing is running there either
+            log.warning("could not signal cancellation of %s", job_id, exc_info=True)
+
+    # -- running and watching ----------------------------------------------------------------
+    async def _run_fast(self, handle: _Handle, kwargs: dict[str, Any]) -> None:
+        loop = asyncio.get_running_loop()
+        job = handle.job
+        reporter = Reporter(
+            job.id, job.time_limit,
+            publish=lambda event: loop.call_soon_threadsafe(self._on_event, (0.0, event)),
+            cancelled=handle.cancel.is_set)
+        outcome = await loop.run_in_executor(
+            self._pool, lambda: run_job(job.id, job.process, kwargs, "", job.time_limit,
+                                        test_processes=self.settings.test_processes,
+                                        reporter=reporter))
+        await self._record(handle, outcome)
+
+    async def _watch(self, handle: _Handle) -> None:
+        assert handle.future is not None
+        try:
+            outcome = await handle.future
+        except FutureCancelledError:
+            outcome = {"status": "dismissed", "problem": problem_body(
+                "job-dismissed", "The job was dismissed before it finished.")}
+        except KilledWorker as exc:
+            outcome = {"status": "failed", "problem": problem_body(
+                "worker-lost", f"The job's worker died {self.settings.allowed_failures + 1} "
+                f"times (crash or memory limit); last on {getattr(exc, 'last_worker', '?')}.")}
+        except asyncio.CancelledError:
+            raise
+        except Exception as exc:
+            if self._closing:
+                return
+            log.exception("job %s: unexpected error from the scheduler", handle.job.id)
+            outcome = {"status": "failed", "problem": problem_body(
+                "job-failed", f"The scheduler reported {type(exc).__name__}: {exc}")}
+        await self._record(handle, outcome)
+        if self.settings.scheduler is None:
+            handle.future.release()
+
+    async def _record(self, handle: _Handle, outcome: dict[str, Any]) -> None:
+        job = handle.job
+        if self._jobs.get(job.id) is not handle:  # recorded already (time-limit sweep)
+            return
+        del self._jobs[job.id]
+        status = outcome["status"]
+        if status == "successful":
+            outputs = outcome["outputs"]
+            size = sum(getattr(v, "nbytes", 0) for v in outputs.values())
+            if size > 2**20:
+                await asyncio.to_thread(self.store.finish, job.id, "successful", "done",
+                                        outputs=outputs)
+            else:
+                self.store.finish(job.id, "successful", "done", outputs=outputs)
+        elif status == "failed":
+            self.store.finish(job.id, "failed", outcome["problem"]["detail"], outcome["problem"])
+        if handle.future is not None and (status == "dismissed" or outcome.get(
+                "problem", {}).get("type", "").endswith("time-limit-exceeded")):
+            # The worker may look at the event for a while yet: a cancelled Dask future does
+            # not stop its thread. By the job's own deadline it has stopped either way.
+            self._spawn(self._clear_cancel(job.id, (job.time_limit or 0.0) + GRACE))
+        if not handle.outcome.done():
+            handle.outcome.set_result(outcome)
+        for callback in self.on_finish:
+            callback(job, outcome)
+
+    async def _clear_cancel(self, job_id: str, delay: float) -> None:
+        await asyncio.sleep(delay)
+        try:
+            await Event(cancel_event_name(job_id), client=self.client).clear()
+        except Exception:
+            pass
+
+    def _on_event(self, event: tuple[float, dict[str, Any]]) -> None:
+        _, msg = event
+        handle = self._jobs.get(msg.get("job", ""))
+        if handle is None:
+            return
+        if msg.get("kind") == "started":
+            handle.started = time.monotonic()
+            self.store.mark_running(handle.job.id)
+            for callback in self.on_start:
+                callback(handle.job.id)
+        else:
+            self.store.set_progress(handle.job.id, int(msg.get("progress", 0)),
+                                    str(msg.get("message", ""))[:500])
+
+    async def _sweep(self) -> None:
+        """Stop jobs that ignore their time limit: after GRACE seconds, restart the worker."""
+        while True:
+            await asyncio.sleep(0.5)
+            now = time.monotonic()
+            for handle in list(self._jobs.values()):
+                limit = handle.job.time_limit
+                if handle.started is None or limit is None or now - handle.started < limit + GRACE:
+                    continue
+                log.warning("job %s ignored its time limit of %g s; stopping it",
+                            handle.job.id, limit)
+                handle.cancel.set()
+                if handle.future is not None:
+                    await self._signal_cancel(handle.job.id)
+                    await self._restart_worker_of(handle.job.id)
+                await self._record(handle, {"status": "failed", "problem": problem_body(
+                    "time-limit-exceeded",
+                    f"The job was stopped: time limit of {limit:g} s exceeded.")})
+                if handle.future is not None:
+                    await handle.future.cancel()
+
+    async def _restart_worker_of(self, job_id: str) -> None:
+        assert self.client is not None
+        key = f"morphserve-{job_id}"
+        try:
+            processing = await self.client.processing()
+            workers = [w for w, keys in processing.items() if key in keys]
+            if workers:
+                await self.client.restart_workers(workers, raise_for_error=False)
+        except Exception:
+            log.warning("could not restart the worker of %s", job_id, exc_info=True)

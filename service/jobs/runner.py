@@ -1,0 +1,149 @@
+"""What runs on a Dask worker: one job, start to end.
+
+:func:`run_job` loads the inputs, calls the algorithm through the catalog with a progress
+callback and returns an *outcome* dict; with ``persist`` (external scheduler, tasks submitted
+fire-and-forget) it first writes the outputs atomically to ``results/{job_id}.pkl`` in the
+shared data dir, so they outlive a restarting API. It never raises for a job's own failure: algorithm errors
+become a ``failed`` outcome carrying a problem body, so a bad input never costs a worker.
+
+The progress callback (:class:`Reporter`) is also how dismissal and time limits reach running
+work, since Dask cannot stop a running Python function: it raises
+:class:`~algorithms.core.errors.Cancelled` when the job's ``distributed.Event`` is set or its
+deadline has passed. Progress is published with ``Worker.log_event`` on :data:`TOPIC`; the
+service subscribes to it.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import pickle
+import time
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from algorithms.core.errors import Cancelled, GeometryError
+from service.catalog import lookup
+from service.jobs.store import result_path, write_atomic
+from service.problems import geometry_error_problem, problem_body
+
+__all__ = ["TOPIC", "run_job", "cancel_event_name", "Reporter"]
+
+log = logging.getLogger("morphserve.runner")
+
+TOPIC = "morphserve-progress"
+EMIT_INTERVAL = 0.1
+"""Seconds between two progress events of one job."""
+CANCEL_CHECK_INTERVAL = 0.2
+"""Seconds between two looks at the job's cancel event (each one is a scheduler round trip)."""
+
+
+def cancel_event_name(job_id: str) -> str:
+    return f"morphserve-cancel-{job_id}"
+
+
+def _current_worker() -> Any:
+    try:
+        from distributed import get_worker
+
+        return get_worker()
+    except (ImportError, ValueError):
+        return None  # run in-process (tests, the service's own fast path)
+
+
+class Reporter:
+    """The ``progress(done, total, message)`` callback handed to the algorithm.
+
+    On a worker it publishes with ``log_event`` and looks at the job's ``distributed.Event``;
+    in the service's own process (the fast path) ``publish`` and ``cancelled`` are given.
+    """
+
+    def __init__(self, job_id: str, time_limit: float | None, worker: Any = None, *,
+                 publish: Any = None, cancelled: Any = None) -> None:
+        self.job_id = job_id
+        self.time_limit = time_limit
+        self.worker = worker
+        self._publish = publish
+        self._cancelled = cancelled
+        now = time.monotonic()
+        self.deadline = now + time_limit if time_limit else math.inf
+        self._last_emit = -math.inf
+        self._last_check = now
+        self.reason: str | None = None
+
+    def emit(self, kind: str, progress: int = 0, message: str = "") -> None:
+        event = {"job": self.job_id, "kind": kind, "progress": progress, "message": message}
+        if self._publish is not None:
+            self._publish(event)
+        elif self.worker is not None:
+            self.worker.log_event(TOPIC, event)
+
+    def _cancel_requested(self) -> bool:
+        if self._cancelled is not None:
+            return bool(self._cancelled())
+        if self.worker is None:
+            return False
+        from distributed import Event
+
+        return bool(Event(cancel_event_name(self.job_id)).is_set())
+
+    def __call__(self, done: float, total: float, message: str = "") -> None:
+        now = time.monotonic()
+        if now > self.deadline:
+            self.reason = "time-limit"
+            raise Cancelled(f"time limit of {self.time_limit:g} s exceeded")
+        if now - self._last_check >= CANCEL_CHECK_INTERVAL:
+            self._last_check = now
+            if self._cancel_requested():
+                self.reason = "dismissed"
+                raise Cancelled("dismissed by the client")
+        if now - self._last_emit >= EMIT_INTERVAL:
+            self._last_emit = now
+            pct = int(max(0.0, min(100.0, 100.0 * done / total))) if total else 0
+            self.emit("progress", pct, message)
+
+
+def _check_finite(outputs: Mapping[str, Any]) -> None:
+    for name, value in outputs.items():
+        if isinstance(value, np.ndarray) and value.dtype.kind == "f" and \
+                not np.isfinite(value).all():
+            raise FloatingPointError(f"output {name!r} holds NaN or Inf")
+        if isinstance(value, float) and not math.isfinite(value):
+            raise FloatingPointError(f"output {name!r} is {value}")
+
+
+def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, data_dir: str,
+            time_limit: float | None = None, fsync: bool = True,
+            test_processes: bool = False, persist: bool = False,
+            reporter: Reporter | None = None) -> dict[str, Any]:
+    """Run one job; return ``{"status": "successful", "outputs": {...}}`` or
+    ``{"status": "failed" | "dismissed", "problem": {...}}``."""
+    reporter = reporter or Reporter(job_id, time_limit, _current_worker())
+    reporter.emit("started", 0, "running")
+    try:
+        process = lookup(process_id, test_processes=test_processes)
+        if process is None:
+            raise LookupError(f"unknown process {process_id!r} on this worker")
+        kwargs = payload if not isinstance(payload, str) else \
+            pickle.loads(Path(payload).read_bytes())
+        outputs = process.run(kwargs, progress=reporter)
+        _check_finite(outputs)
+        if persist:
+            write_atomic(result_path(Path(data_dir), job_id),
+                         pickle.dumps(outputs, protocol=5), fsync=fsync)
+        return {"status": "successful", "outputs": outputs}
+    except Cancelled as exc:
+        if reporter.reason == "time-limit":
+            return {"status": "failed", "problem": problem_body(
+                "time-limit-exceeded", f"The job was stopped: {exc.message}.")}
+        return {"status": "dismissed", "problem": problem_body(
+            "job-dismissed", "The job was dismissed before it finished.")}
+    except GeometryError as exc:
+        return {"status": "failed", "problem": geometry_error_problem(exc)}
+    except Exception as exc:  # a bug in an algorithm: fail the job, keep the worker
+        log.exception("job %s (%s) failed", job_id, process_id)
+        return {"status": "failed", "problem": problem_body(
+            "job-failed", f"The algorithm failed: {type(exc).__name__}: {exc}")}

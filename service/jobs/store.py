@@ -1,0 +1,317 @@
+"""The job store: SQLite in WAL mode under the data dir, plus result files.
+
+Durability rules (what "nothing accepted is lost" rests on):
+
+* a job's row and its inputs are committed (``synchronous=FULL``) before the service answers
+  ``201``/``200``; inputs above ``inline_input_bytes`` are written to ``inputs/{id}.pkl`` and
+  fsynced first, the row names the file;
+* outputs that reach the service are stored in the ``results`` table in the same transaction
+  that marks the row ``successful``; with an external scheduler the worker also writes
+  ``results/{id}.pkl`` atomically (temporary file, fsync, rename) so that work survives a
+  restarting API: a result file without its row update is found on start-up and the row
+  completed from it;
+* rows still ``accepted`` or ``running`` at start-up are submitted again (at-least-once).
+
+One connection, guarded by a lock, is shared by the event loop and the threads it hands
+heavy writes to. Pickle is only ever read back from files this service wrote itself.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pickle
+import sqlite3
+import threading
+import time
+import uuid
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = ["JobRecord", "JobStore", "ACTIVE", "FINISHED", "write_atomic", "result_path"]
+
+ACTIVE = ("accepted", "running")
+FINISHED = ("successful", "failed", "dismissed")
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS jobs (
+    seq             INTEGER PRIMARY KEY AUTOINCREMENT,
+    id              TEXT NOT NULL UNIQUE,
+    process         TEXT NOT NULL,
+    status          TEXT NOT NULL,
+    message         TEXT NOT NULL DEFAULT '',
+    progress        INTEGER NOT NULL DEFAULT 0,
+    created         REAL NOT NULL,
+    started         REAL,
+    finished        REAL,
+    updated         REAL NOT NULL,
+    request         TEXT NOT NULL DEFAULT '{}',
+    inputs          BLOB,
+    inputs_file     TEXT,
+    problem         TEXT,
+    time_limit      REAL,
+    idempotency_key TEXT UNIQUE,
+    request_hash    TEXT,
+    attempts        INTEGER NOT NULL DEFAULT 0
+);
+CREATE TABLE IF NOT EXISTS results (
+    id              TEXT PRIMARY KEY REFERENCES jobs(id) ON DELETE CASCADE,
+    outputs         BLOB NOT NULL
+);
+CREATE INDEX IF NOT EXISTS jobs_status ON jobs(status);
+CREATE INDEX IF NOT EXISTS jobs_process ON jobs(process);
+"""
+
+_COLUMNS = ("id", "process", "status", "message", "progress", "created", "started",
+            "finished", "updated", "request", "problem", "time_limit", "idempotency_key",
+            "request_hash", "attempts", "inputs_file")
+
+
+@dataclass(frozen=True)
+class JobRecord:
+    """One row of the job table (without the inputs blob)."""
+
+    id: str
+    process: str
+    status: str
+    message: str
+    progress: int
+    created: float
+    started: float | None
+    finished: float | None
+    updated: float
+    request: dict[str, Any]
+    """What the client asked for besides the inputs: outputs, response mode, subscriber."""
+    problem: dict[str, Any] | None
+    time_limit: float | None
+    idempotency_key: str | None
+    request_hash: str | None
+    attempts: int
+    inputs_file: str | None
+
+    @property
+    def active(self) -> bool:
+        return self.status in ACTIVE
+
+
+def _record(row: tuple[Any, ...]) -> JobRecord:
+    d = dict(zip(_COLUMNS, row, strict=True))
+    d["request"] = json.loads(d["request"])
+    d["problem"] = json.loads(d["problem"]) if d["problem"] else None
+    return JobRecord(**d)
+
+
+def write_atomic(path: Path, data: bytes, *, fsync: bool = True) -> None:
+    """Write ``data`` to ``path`` so that readers see the old file or the whole new one."""
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    with open(tmp, "wb") as f:
+        f.write(data)
+        if fsync:
+            f.flush()
+            os.fsync(f.fileno())
+    os.replace(tmp, path)
+    if fsync:
+        dir_fd = os.open(path.parent, os.O_RDONLY)
+        try:
+            os.fsync(dir_fd)
+        finally:
+            os.close(dir_fd)
+
+
+def result_path(data_dir: Path, job_id: str) -> Path:
+    """Where the worker writes the outputs of ``job_id``."""
+    return Path(data_dir) / "results" / f"{job_id}.pkl"
+
+
+class JobStore:
+    """Jobs, their inputs and their results under ``data_dir``."""
+
+    def __init__(self, data_dir: Path, *, fsync: bool = True, inline_input_bytes: int = 2**20
+                 ) -> None:
+        self.data_dir = Path(data_dir)
+        self.fsync = fsync
+        self.inline_input_bytes = inline_input_bytes
+        for sub in ("results", "inputs"):
+            (self.data_dir / sub).mkdir(parents=True, exist_ok=True)
+        self._lock = threading.Lock()
+        self._db = sqlite3.connect(self.data_dir / "jobs.sqlite3", isolation_level=None,
+                                   check_same_thread=False)
+        self._db.execute("PRAGMA journal_mode=WAL")
+        self._db.execute(f"PRAGMA synchronous={'FULL' if fsync else 'NORMAL'}")
+        self._db.execute("PRAGMA busy_timeout=5000")
+        self._db.executescript(_SCHEMA)
+
+    def close(self) -> None:
+        with self._lock:
+            self._db.close()
+
+    # -- writing -----------------------------------------------------------------------------
+    def create(self, *, process: str, inputs: Mapping[str, Any], request: Mapping[str, Any],
+               time_limit: float | None, idempotency_key: str | None = None,
+               request_hash: str | None = None) -> JobRecord:
+        """Record a new accepted job with its inputs; durable when this returns."""
+        job_id = str(uuid.uuid4())
+        blob = pickle.dumps(dict(inputs), protocol=5)
+        inputs_file = None
+        if len(blob) > self.inline_input_bytes:
+            inputs_file = f"inputs/{job_id}.pkl"
+            write_atomic(self.data_dir / inputs_file, blob, fsync=self.fsync)
+            blob = None
+        now = time.time()
+        with self._lock:
+            self._db.execute(
+                "INSERT INTO jobs (id, process, status, created, updated, request, inputs, "
+                "inputs_file, time_limit, idempotency_key, request_hash) "
+                "VALUES (?, ?, 'accepted', ?, ?, ?, ?, ?, ?, ?, ?)",
+                (job_id, process, now, now, json.dumps(dict(request)), blob, inputs_file,
+                 time_limit, idempotency_key, request_hash))
+        rec = self.get(job_id)
+        assert rec is not None
+        return rec
+
+    def _update(self, job_id: str, where: str = "", **values: Any) -> bool:
+        values.setdefault("updated", time.time())
+        cols = ", ".join(f"{k} = ?" for k in values)
+        args = [json.dumps(v) if k in ("problem", "request") and v is not None else v
+                for k, v in values.items()]
+        with self._lock:
+            cur = self._db.execute(f"UPDATE jobs SET {cols} WHERE id = ? {where}",
+                                   (*args, job_id))
+        return cur.rowcount > 0
+
+    def mark_running(self, job_id: str, started: float | None = None) -> bool:
+        """accepted -> running (no effect on a finished or dismissed job)."""
+        with self._lock:
+            cur = self._db.execute(
+                "UPDATE jobs SET status = 'running', started = ?, updated = ?, "
+                "message = 'running', attempts = attempts + 1 "
+                "WHERE id = ? AND status IN ('accepted', 'running')",
+                (started or time.time(), time.time(), job_id))
+        return cur.rowcount > 0
+
+    def set_progress(self, job_id: str, progress: int, message: str) -> bool:
+        return self._update(job_id, "AND status = 'running'", progress=int(progress),
+                            message=message)
+
+    def finish(self, job_id: str, status: str, message: str,
+               problem: Mapping[str, Any] | None = None,
+               outputs: Mapping[str, Any] | None = None) -> bool:
+        """running/accepted -> successful/failed, with the outputs in the same transaction.
+        A dismissed job stays dismissed."""
+        now = time.time()
+        blob = pickle.dumps(dict(outputs), protocol=5) if outputs is not None else None
+        with self._lock:
+            self._db.execute("BEGIN IMMEDIATE")
+            try:
+                cur = self._db.execute(
+                    "UPDATE jobs SET status = ?, message = ?, finished = ?, updated = ?, "
+                    "problem = ?, progress = CASE WHEN ? = 'successful' THEN 100 ELSE progress "
+                    "END WHERE id = ? AND status IN ('accepted', 'running')",
+                    (status, message, now, now, json.dumps(dict(problem)) if problem else None,
+                     status, job_id))
+                if cur.rowcount and blob is not None:
+                    self._db.execute("INSERT OR REPLACE INTO results (id, outputs) VALUES (?, ?)",
+                                     (job_id, blob))
+                self._db.execute("COMMIT")
+            except BaseException:
+                self._db.execute("ROLLBACK")
+                raise
+        return cur.rowcount > 0
+
+    def requeue(self, job_id: str) -> bool:
+        """Back to accepted, for a resubmission after a restart."""
+        return self._update(job_id, "AND status IN ('accepted', 'running')", status="accepted",
+                            message="resubmitted after a restart", progress=0)
+
+    def dismiss(self, job_id: str) -> bool:
+        now = time.time()
+        return self._update(job_id, "AND status IN ('accepted', 'running')", status="dismissed",
+                            message="dismissed by the client", finished=now, updated=now)
+
+    def delete(self, job_id: str) -> None:
+        rec = self.get(job_id)
+        with self._lock:
+            self._db.execute("DELETE FROM results WHERE id = ?", (job_id,))
+            self._db.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
+        if rec is not None and rec.inputs_file:
+            (self.data_dir / rec.inputs_file).unlink(missing_ok=True)
+        result_path(self.data_dir, job_id).unlink(missing_ok=True)
+
+    # -- reading -----------------------------------------------------------------------------
+    def get(self, job_id: str) -> JobRecord | None:
+        with self._lock:
+            row = self._db.execute(f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE id = ?",
+                                   (job_id,)).fetchone()
+        return _record(row) if row else None
+
+    def by_idempotency_key(self, key: str) -> JobRecord | None:
+        with self._lock:
+            row = self._db.execute(
+                f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE idempotency_key = ?",
+                (key,)).fetchone()
+        return _record(row) if row else None
+
+    def list(self, *, statuses: Iterable[str] = (), processes: Iterable[str] = (),
+             limit: int = 10, offset: int = 0) -> tuple[list[JobRecord], int]:
+        """A page of jobs, newest first, and the number of jobs matching the filter."""
+        where, args = [], []
+        for col, vals in (("status", list(statuses)), ("process", list(processes))):
+            if vals:
+                where.append(f"{col} IN ({', '.join('?' * len(vals))})")
+                args += vals
+        clause = f"WHERE {' AND '.join(where)}" if where else ""
+        with self._lock:
+            total = self._db.execute(f"SELECT COUNT(*) FROM jobs {clause}", args).fetchone()[0]
+            rows = self._db.execute(
+                f"SELECT {', '.join(_COLUMNS)} FROM jobs {clause} ORDER BY seq DESC "
+                "LIMIT ? OFFSET ?", (*args, limit, offset)).fetchall()
+        return [_record(r) for r in rows], total
+
+    def count_active(self) -> int:
+        with self._lock:
+            return self._db.execute(
+                "SELECT COUNT(*) FROM jobs WHERE status IN ('accepted', 'running')").fetchone()[0]
+
+    def count_by_status(self) -> dict[str, int]:
+        with self._lock:
+            rows = self._db.execute("SELECT status, COUNT(*) FROM jobs GROUP BY status")
+            return dict(rows.fetchall())
+
+    def unfinished(self) -> list[JobRecord]:
+        """Jobs accepted or running, oldest first (what a restart must finish)."""
+        with self._lock:
+            rows = self._db.execute(
+                f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE status IN "
+                "('accepted', 'running') ORDER BY seq").fetchall()
+        return [_record(r) for r in rows]
+
+    def inputs(self, job: JobRecord) -> dict[str, Any]:
+        """The job's validated inputs, as the algorithm's keyword arguments."""
+        if job.inputs_file:
+            return pickle.loads((self.data_dir / job.inputs_file).read_bytes())
+        with self._lock:
+            (blob,) = self._db.execute("SELECT inputs FROM jobs WHERE id = ?",
+                                       (job.id,)).fetchone()
+        return pickle.loads(blob)
+
+    def payload(self, job: JobRecord) -> dict[str, Any] | str:
+        """What travels to the worker: small inputs themselves, large ones by file path."""
+        if job.inputs_file:
+            return str(self.data_dir / job.inputs_file)
+        return self.inputs(job)
+
+    def result_file_exists(self, job_id: str) -> bool:
+        """A worker wrote this job's outputs to the data dir (external scheduler)."""
+        return result_path(self.data_dir, job_id).exists()
+
+    def result(self, job_id: str) -> dict[str, Any]:
+        """The outputs of a successful job."""
+        with self._lock:
+            row = self._db.execute("SELECT outputs FROM results WHERE id = ?",
+                                   (job_id,)).fetchone()
+        if row is not None:
+            return pickle.loads(row[0])
+        return pickle.loads(result_path(self.data_dir, job_id).read_bytes())
+

@@ -1,0 +1,114 @@
+"""Helpers shared by the routers: app state, request bodies, Prefer headers, responses."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from fastapi import Request
+from service.jsonio import JSONResponse
+
+from service.catalog import Process, lookup
+from service.errors import ServiceError, problem_response
+from service.jobs.engine import Engine
+from service.jobs.store import JobRecord, JobStore
+from service.representation import results_document, status_info
+from service.settings import Settings
+
+__all__ = ["State", "state", "get_process", "read_body", "parse_prefer", "job_response",
+           "get_job"]
+
+
+@dataclass
+class State:
+    settings: Settings
+    store: JobStore
+    engine: Engine
+
+
+def state(request: Request) -> State:
+    return request.app.state.morphserve
+
+
+def get_process(st: State, process_id: str) -> Process:
+    process = lookup(process_id, test_processes=st.settings.test_processes)
+    if process is None:
+        raise ServiceError("no-such-process", f"No process {process_id!r}; GET /processes "
+                           "lists the processes offered.")
+    return process
+
+
+def get_job(st: State, job_id: str) -> JobRecord:
+    job = st.store.get(job_id)
+    if job is None:
+        raise ServiceError("no-such-job", f"No job {job_id!r}.")
+    return job
+
+
+async def read_body(request: Request, limit: int) -> bytes:
+    """The request body, refused with 413 as soon as it passes ``limit`` bytes."""
+    declared = request.headers.get("content-length")
+    if declared is not None and declared.isdigit() and int(declared) > limit:
+        raise ServiceError("payload-too-large",
+                           f"The body has {int(declared)} bytes; the limit is {limit}.")
+    chunks, size = [], 0
+    async for chunk in request.stream():
+        size += len(chunk)
+        if size > limit:
+            raise ServiceError("payload-too-large", f"The body exceeds the limit of {limit} "
+                               "bytes.")
+        chunks.append(chunk)
+    return b"".join(chunks)
+
+
+def parse_prefer(values: list[str]) -> dict[str, str | None]:
+    """RFC 7240 preferences: ``respond-async, wait=10`` -> {"respond-async": None, "wait": "10"}.
+    Parameters after ``;`` are ignored; the first occurrence of a preference wins."""
+    prefs: dict[str, str | None] = {}
+    for header in values:
+        for item in header.split(","):
+            token = item.split(";", 1)[0].strip()
+            if not token:
+                continue
+            name, _, value = token.partition("=")
+            prefs.setdefault(name.strip().lower(), value.strip().strip('"') or None)
+    return prefs
+
+
+def job_response(st: State, job: JobRecord, outcome: dict[str, Any] | None,
+                 applied: str | None, *, waited: bool = True) -> JSONResponse:
+    """How an execution request is answered once its job is as far as it will get: the
+    results (200), the failure as a problem, or the statusInfo (201) of a job still under way
+    or of one the client asked to run asynchronously (``waited`` false)."""
+    headers = {"Link": f'</jobs/{job.id}>; rel="monitor"'}
+    if not waited:
+        headers["Location"] = f"/jobs/{job.id}"
+        if applied:
+            headers["Preference-Applied"] = applied
+        return JSONResponse(status_info(job), status_code=201, headers=headers)
+    if job.status == "successful":
+        outputs = outcome["outputs"] if outcome and "outputs" in outcome else \
+            st.store.result(job.id)
+        headers["Content-Location"] = f"/jobs/{job.id}/results"
+        if applied:
+            headers["Preference-Applied"] = applied
+        return JSONResponse(results_document(outputs, job.request), status_code=200,
+                            headers=headers)
+    if job.status in ("failed", "dismissed"):
+        return failure_response(job, headers)
+    headers["Location"] = f"/jobs/{job.id}"
+    if applied:
+        headers["Preference-Applied"] = "respond-async"
+    return JSONResponse(status_info(job), status_code=201, headers=headers)
+
+
+def failure_response(job: JobRecord, headers: dict[str, str] | None = None) -> JSONResponse:
+    """The problem a failed or dismissed job ended with."""
+    from service.problems import problem_body
+
+    if job.status == "dismissed":
+        body = problem_body("job-dismissed", "The job was dismissed before it finished.")
+    else:
+        body = dict(job.problem or problem_body("job-failed", job.message or "failed"))
+    body["instance"] = f"/jobs/{job.id}"
+    return problem_response(body, headers)

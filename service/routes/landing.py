@@ -1,0 +1,83 @@
+"""``/``, ``/conformance``, health and metrics."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter, Request
+from fastapi.responses import PlainTextResponse
+
+from service.jsonio import JSONResponse
+
+from service.catalog import processes
+from service.errors import ServiceError
+from service.routes import docs
+from service.routes.common import state
+
+router = APIRouter(tags=["service"])
+
+OGC = "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/"
+CONFORMANCE = [OGC + c for c in ("core", "ogc-process-description", "json", "job-list",
+                                 "dismiss", "callback", "oas30")]
+
+
+@router.get("/", operation_id="getLandingPage", summary="Landing page",
+            responses=docs.responses(docs.LandingPage))
+async def landing() -> JSONResponse:
+    def link(href: str, rel: str, title: str, type_: str = "application/json") -> dict:
+        return {"href": href, "rel": rel, "type": type_, "title": title}
+
+    return JSONResponse({
+        "title": "morphserve",
+        "description": "Geometry jobs over OGC API – Processes: alignment, registration, "
+                       "deformation, parameterization, embedding.",
+        "links": [
+            link("/", "self", "this document"),
+            link("/openapi.json", "service-desc", "the API definition",
+                 "application/vnd.oai.openapi+json;version=3.0"),
+            link("/docs", "service-doc", "the API documentation", "text/html"),
+            link("/conformance", "http://www.opengis.net/def/rel/ogc/1.0/conformance",
+                 "conformance classes"),
+            link("/processes", "http://www.opengis.net/def/rel/ogc/1.0/processes",
+                 "the processes"),
+            link("/jobs", "http://www.opengis.net/def/rel/ogc/1.0/job-list", "the jobs"),
+        ],
+    })
+
+
+@router.get("/conformance", operation_id="getConformanceClasses",
+            summary="Conformance classes", responses=docs.responses(docs.Conformance))
+async def conformance() -> JSONResponse:
+    return JSONResponse({"conformsTo": CONFORMANCE})
+
+
+@router.get("/healthz", operation_id="getHealth", summary="Liveness: the process answers")
+async def healthz() -> JSONResponse:
+    return JSONResponse({"status": "ok"})
+
+
+@router.get("/readyz", operation_id="getReadiness",
+            summary="Readiness: the job store and at least one worker are up",
+            responses=docs.responses(None, 503))
+async def readyz(request: Request) -> JSONResponse:
+    st = state(request)
+    workers = await st.engine.n_workers()
+    if workers == 0:
+        raise ServiceError("service-unavailable", "No Dask worker is connected yet.",
+                           headers={"Retry-After": "1"})
+    return JSONResponse({"status": "ready", "workers": workers})
+
+
+@router.get("/metrics", operation_id="getMetrics", summary="Prometheus metrics",
+            response_class=PlainTextResponse)
+async def metrics(request: Request) -> PlainTextResponse:
+    st = state(request)
+    counts = st.store.count_by_status()
+    lines = ["# HELP morphserve_jobs Jobs in the store by status.", "# TYPE morphserve_jobs gauge"]
+    for status in ("accepted", "running", "successful", "failed", "dismissed"):
+        lines.append(f'morphserve_jobs{{status="{status}"}} {counts.get(status, 0)}')
+    lines += ["# HELP morphserve_workers Connected Dask workers.",
+              "# TYPE morphserve_workers gauge", f"morphserve_workers {await st.engine.n_workers()}",
+              "# HELP morphserve_processes Processes offered.",
+              "# TYPE morphserve_processes gauge",
+              f"morphserve_processes {len(processes(test_processes=st.settings.test_processes))}"]
+    return PlainTextResponse("\n".join(lines) + "\n",
+                             media_type="text/plain; version=0.0.4")

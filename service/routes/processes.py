@@ -1,0 +1,220 @@
+"""``/processes``: the catalog as OGC processes, and execution."""
+
+from __future__ import annotations
+
+import asyncio
+import hashlib
+import math
+import sqlite3
+from typing import Any
+
+from fastapi import APIRouter, Request
+from service.jsonio import JSONResponse
+from pydantic import ValidationError
+
+from service import jsonio
+from service.catalog import Process, processes
+from service.errors import ServiceError
+from service.problems import pydantic_errors
+from service.representation import process_description, process_summary
+from service.routes import docs
+from service.routes.common import (
+    State,
+    get_process,
+    job_response,
+    parse_prefer,
+    read_body,
+    state,
+)
+
+router = APIRouter(tags=["processes"])
+
+_BODY_MEMBERS = {"inputs", "outputs", "response", "subscriber", "mode", "timeLimit"}
+
+
+@router.get("/processes", operation_id="getProcesses", summary="List the processes",
+            responses=docs.responses(docs.ProcessList))
+async def list_processes(request: Request) -> JSONResponse:
+    st = state(request)
+    items = [process_summary(p) for p in processes(test_processes=st.settings.test_processes)]
+    return JSONResponse({"processes": items, "links": [
+        {"href": "/processes", "rel": "self", "type": "application/json"}]})
+
+
+@router.get("/processes/{processId}", operation_id="getProcessDescription",
+            summary="Describe a process: its inputs and outputs",
+            responses=docs.responses(docs.ProcessDescription, 404))
+async def describe_process(processId: str, request: Request) -> JSONResponse:  # noqa: N803
+    return JSONResponse(process_description(get_process(state(request), processId)))
+
+
+def _invalid(field: str, message: str) -> ServiceError:
+    return ServiceError("invalid-input", f"{field}: {message}",
+                        errors=[{"input": field, "message": message}])
+
+
+def _unwrap(value: Any) -> Any:
+    """OGC qualified input values: ``{"value": x}`` is ``x``."""
+    if isinstance(value, dict) and "value" in value and set(value) <= {
+            "value", "mediaType", "encoding", "schema"}:
+        return value["value"]
+    return value
+
+
+def _parse_execute(process: Process, raw: bytes, st: State) -> dict[str, Any]:
+    try:
+        body = jsonio.loads(raw) if raw.strip() else {}
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ServiceError("malformed-body", f"The body is not valid JSON: {exc}.") from None
+    if not isinstance(body, dict):
+        raise ServiceError("malformed-body", "Expected a JSON object "
+                           '{"inputs": {...}}, got ' + type(body).__name__ + ".")
+    unknown = sorted(set(body) - _BODY_MEMBERS)
+    if unknown:
+        raise _invalid(unknown[0], f"Unknown member of the execute request; expected some of "
+                       f"{sorted(_BODY_MEMBERS)}.")
+    inputs = body.get("inputs", {})
+    if not isinstance(inputs, dict):
+        raise _invalid("inputs", f"Expected an object of named inputs, got "
+                       f"{type(inputs).__name__}.")
+    try:
+        params = process.params.model_validate(
+            {k: _unwrap(v) for k, v in inputs.items()},
+            context={"max_points": st.settings.max_points})
+    except ValidationError as exc:
+        errors = pydantic_errors(exc.errors())
+        detail = "; ".join(f"{e['input']}: {e['message']}" for e in errors)
+        raise ServiceError("invalid-input", detail, errors=errors) from None
+
+    outputs = body.get("outputs")
+    if outputs is not None:
+        if not isinstance(outputs, dict) or not outputs:
+            raise _invalid("outputs", "Expected an object naming some of the outputs "
+                           f"{sorted(process.outputs)}.")
+        bad = sorted(set(outputs) - set(process.outputs))
+        if bad:
+            raise _invalid(f"outputs.{bad[0]}", f"No such output; expected some of "
+                           f"{sorted(process.outputs)}.")
+        outputs = [name for name in process.outputs if name in outputs]
+    response = body.get("response", "document")
+    if response not in ("document", "raw"):
+        raise _invalid("response", f"Expected 'document' or 'raw', got {response!r}.")
+    time_limit = min(st.settings.job_time_limit, process.time_limit or math.inf)
+    if "timeLimit" in body:
+        asked = body["timeLimit"]
+        if isinstance(asked, bool) or not isinstance(asked, (int, float)) or \
+                not math.isfinite(asked) or asked <= 0:
+            raise _invalid("timeLimit", f"Expected a positive number of seconds, got {asked!r}.")
+        time_limit = min(time_limit, float(asked))
+    from service.callbacks import check_subscriber
+
+    subscriber = check_subscriber(body.get("subscriber"), st.settings.callback_hosts)
+    kwargs = process.kwargs(params)
+    return {"kwargs": kwargs, "nbytes": sum(getattr(v, "nbytes", 64) for v in kwargs.values()),
+            "time_limit": time_limit,
+            "request": {"outputs": outputs, "response": response, "subscriber": subscriber},
+            "mode": body.get("mode")}
+
+
+@router.post(
+    "/processes/{processId}/execution", operation_id="execute",
+    summary="Execute a process",
+    description="Runs the process on the inputs. `Prefer: respond-async` answers 201 with the "
+    "job's statusInfo at once; `Prefer: wait=N` answers 200 with the results if the job ends "
+    "within N seconds, else 201; `Prefer: respond-sync` (and no preference on a short process) "
+    "waits for the end. `Idempotency-Key` makes retries safe.",
+    openapi_extra={"requestBody": {"required": True, "content": {"application/json": {
+        "schema": docs.ExecuteRequest.model_json_schema(
+            ref_template="#/components/schemas/{model}")}}}},
+    responses={**docs.responses(None, 400, 404, 413, 415, 422, 429),
+               200: {"description": "The results document (synchronous execution).",
+                     "content": {"application/json": {"schema": {"type": "object"}}}},
+               201: {"description": "The job was accepted; its statusInfo.",
+                     "content": {"application/json": {"schema": {
+                         "$ref": "#/components/schemas/StatusInfo"}}}}},
+)
+async def execute(processId: str, request: Request) -> JSONResponse:  # noqa: N803
+    st = state(request)
+    process = get_process(st, processId)
+    ctype = request.headers.get("content-type", "application/json").split(";")[0].strip()
+    if ctype.lower() not in ("application/json", "") and not ctype.lower().endswith("+json"):
+        raise ServiceError("unsupported-media-type",
+                           f"Expected an application/json body, got {ctype!r}; send the "
+                           "header 'Content-Type: application/json'.")
+    raw = await read_body(request, st.settings.max_request_bytes)
+    key = request.headers.get("idempotency-key")
+    digest = hashlib.sha256(processId.encode() + b"\0" + raw).hexdigest() if key else None
+    prefer = parse_prefer(request.headers.getlist("prefer"))
+
+    if key:
+        earlier = st.store.by_idempotency_key(key)
+        if earlier is not None:
+            return await _answer_existing(st, earlier, digest, prefer, process)
+
+    spec = _parse_execute(process, raw, st)
+    active = st.store.count_active()
+    if active >= st.settings.max_queue:
+        raise ServiceError("queue-full", f"{active} jobs are waiting or running; the limit is "
+                           f"{st.settings.max_queue}.", headers={"Retry-After": "5"})
+    try:
+        job = await _create(st, process, spec, key, digest)
+    except sqlite3.IntegrityError:  # the same key raced in from another request
+        earlier = st.store.by_idempotency_key(key or "")
+        assert earlier is not None
+        return await _answer_existing(st, earlier, digest, prefer, process)
+    fast = process.fast_path and spec["nbytes"] <= st.settings.fast_path_bytes
+    st.engine.submit(job, spec["kwargs"] if job.inputs_file is None
+                     else st.store.payload(job), fast=fast)
+    return await _answer(st, job.id, prefer, process, spec.get("mode"))
+
+
+async def _create(st: State, process: Process, spec: dict[str, Any], key: str | None,
+                  digest: str | None):  # noqa: ANN202
+    args = dict(process=process.id, inputs=spec["kwargs"], request=spec["request"],
+                time_limit=spec["time_limit"], idempotency_key=key, request_hash=digest)
+    if spec["nbytes"] < 2**20:
+        return st.store.create(**args)
+    return await asyncio.to_thread(st.store.create, **args)
+
+
+def _wait_for(prefer: dict[str, str | None], process: Process, mode: Any,
+              st: State) -> tuple[float, str | None]:
+    """Seconds to wait for the job before answering 201, and the preference applied."""
+    if "wait" in prefer:
+        try:
+            wait = float(prefer["wait"] or "")
+        except ValueError:
+            wait = -1.0
+        if not math.isfinite(wait) or wait < 0:
+            raise _invalid("Prefer", f"Expected wait=N with N ≥ 0 seconds, got "
+                           f"wait={prefer['wait']!r}.")
+        wait = min(wait, st.settings.max_wait)
+        return wait, f"wait={prefer['wait']}"
+    if "respond-async" in prefer or mode == "async":
+        return 0.0, "respond-async"
+    if "respond-sync" in prefer or mode == "sync":
+        return math.inf, "respond-sync"
+    return (0.0, None) if process.long else (math.inf, None)
+
+
+async def _answer(st: State, job_id: str, prefer: dict[str, str | None], process: Process,
+                  mode: Any) -> JSONResponse:
+    wait, applied = _wait_for(prefer, process, mode, st)
+    outcome = None
+    if wait > 0:
+        outcome = await st.engine.wait(job_id, wait if math.isfinite(wait) else 1e9)
+    job = st.store.get(job_id)
+    assert job is not None
+    if job.active:
+        applied = "respond-async" if applied else None
+    return job_response(st, job, outcome, applied, waited=wait > 0)
+
+
+async def _answer_existing(st: State, job, digest: str | None,  # noqa: ANN001
+                           prefer: dict[str, str | None], process: Process) -> JSONResponse:
+    if job.request_hash != digest:
+        raise ServiceError("idempotency-conflict", "This Idempotency-Key was used for job "
+                           f"{job.id} with a different request.",
+                           errors=[{"input": "Idempotency-Key",
+                                    "message": "reused with a different body"}])
+    return await _answer(st, job.id, prefer, process, None)

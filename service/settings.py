@@ -1,0 +1,80 @@
+"""Service settings, read from ``MORPHSERVE_*`` environment variables.
+
+One :func:`get_settings` dependency serves the routes; tests build their own
+:class:`Settings` and pass it to :func:`service.app.create_app`.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+from pydantic import Field
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+__all__ = ["Settings", "get_settings"]
+
+
+class Settings(BaseSettings):
+    """Every knob of the service. Environment variable: ``MORPHSERVE_`` + the upper-case name."""
+
+    model_config = SettingsConfigDict(env_prefix="MORPHSERVE_", extra="ignore")
+
+    data_dir: Path = Field(Path("data"), description="Job store (SQLite) and result files.")
+    scheduler: str | None = Field(
+        None,
+        description="Address of an external Dask scheduler (tcp://host:8786). "
+        "Unset: an embedded LocalCluster is started with the service.",
+    )
+    workers: int = Field(2, ge=1, description="Worker processes of the embedded cluster.")
+    worker_memory_limit: str = Field(
+        "auto", description="Memory limit per embedded worker (the nanny restarts it above)."
+    )
+    job_time_limit: float = Field(
+        600.0, gt=0, description="Default wall-clock limit of one job, in seconds."
+    )
+    max_request_bytes: int = Field(
+        256 * 2**20, ge=1024, description="Largest request body accepted (413 above)."
+    )
+    max_points: int = Field(
+        10_000_000, ge=1, description="Most points (rows) in one array input (422 above)."
+    )
+    max_queue: int = Field(
+        10_000, ge=1, description="Most jobs accepted or running at once (429 above)."
+    )
+    max_wait: float = Field(
+        600.0, ge=0, description="Largest honoured `Prefer: wait=N`, in seconds."
+    )
+    inline_input_bytes: int = Field(
+        1 * 2**20,
+        ge=0,
+        description="Inputs up to this size travel to workers inside the task; larger ones "
+        "as a file in the data dir.",
+    )
+    fast_path_bytes: int = Field(
+        4 * 2**20,
+        ge=0,
+        description="Jobs of fast-path processes (closed forms) with inputs up to this size run "
+        "in the service's own threads, skipping the scheduler's ~10 ms round trip. 0: never.",
+    )
+    fast_path_threads: int = Field(1, ge=1, description="Threads of the fast path.")
+    allowed_failures: int = Field(
+        2, ge=0, description="Worker deaths a job may cause before it is marked failed."
+    )
+    callback_hosts: list[str] = Field(
+        default_factory=list,
+        description="Hosts (host or host:port) that subscriber callbacks may be sent to. "
+        "Empty: callbacks are refused.",
+    )
+    test_processes: bool = Field(
+        False,
+        description="Also offer the diagnostic processes (diagnostics.sleep, diagnostics.crash) "
+        "used by the end-to-end tests.",
+    )
+    fsync: bool = Field(True, description="fsync the store and result files on every write.")
+
+
+@lru_cache
+def get_settings() -> Settings:
+    """The settings of this process, read once from the environment."""
+    return Settings()

@@ -1,0 +1,118 @@
+"""Job life cycle over HTTP: progress, dismissal, time limits, listing."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from live import wait_for_status
+
+pytestmark = pytest.mark.e2e
+
+
+def _sleep(http, seconds: float, steps: int, **extra):  # noqa: ANN001, ANN202
+    r = http.post("/processes/diagnostics.sleep/execution", headers={"Prefer": "respond-async"},
+                  json={"inputs": {"seconds": seconds, "steps": steps}, **extra})
+    assert r.status_code == 201, r.text
+    return r.json()["jobID"]
+
+
+def test_progress_is_reported(http) -> None:
+    job = _sleep(http, 3, 30)
+    wait_for_status(http, job, ("running",))
+    seen = set()
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline:
+        info = http.get(f"/jobs/{job}").json()
+        if info["status"] == "running":
+            seen.add(info["progress"])
+            assert info["message"].startswith(("slept", "running"))
+        else:
+            break
+        time.sleep(0.1)
+    assert len(seen) >= 3 and max(seen) > min(seen), seen
+    assert wait_for_status(http, job)["progress"] == 100
+
+
+def test_dismiss_running_job_frees_its_worker_within_2s(http) -> None:
+    # occupy both workers with long jobs, dismiss them, then a new job must start at once
+    jobs = [_sleep(http, 60, 6000) for _ in range(2)]
+    for job in jobs:
+        wait_for_status(http, job, ("running",), timeout=30)
+    t0 = time.monotonic()
+    for job in jobs:
+        r = http.delete(f"/jobs/{job}")
+        assert r.status_code == 200 and r.json()["status"] == "dismissed"
+    probe = _sleep(http, 0.1, 1)
+    info = wait_for_status(http, probe, timeout=10)
+    assert info["status"] == "successful"
+    assert time.monotonic() - t0 < 2.0 + 0.5  # the probe itself sleeps 0.1 s
+    for job in jobs:
+        assert http.get(f"/jobs/{job}").json()["status"] == "dismissed"
+        r = http.get(f"/jobs/{job}/results")
+        assert r.status_code == 410 and r.json()["type"] == "/problems/job-dismissed"
+
+
+def test_dismiss_queued_job(http) -> None:
+    blockers = [_sleep(http, 3, 30) for _ in range(2)]
+    queued = _sleep(http, 0.1, 1)
+    r = http.delete(f"/jobs/{queued}")
+    assert r.status_code == 200 and r.json()["status"] == "dismissed"
+    time.sleep(0.3)
+    assert http.get(f"/jobs/{queued}").json()["status"] == "dismissed"
+    for b in blockers:
+        http.delete(f"/jobs/{b}")
+
+
+def test_dismiss_finished_job_removes_it(http) -> None:
+    job = _sleep(http, 0, 1)
+    wait_for_status(http, job)
+    assert http.delete(f"/jobs/{job}").json()["status"] == "dismissed"
+    r = http.get(f"/jobs/{job}")
+    assert r.status_code == 404 and r.json()["type"] == "/problems/no-such-job"
+    assert http.delete(f"/jobs/{job}").status_code == 404
+
+
+def test_time_limit_fails_the_job_with_a_clear_message(http) -> None:
+    job = _sleep(http, 30, 3000, timeLimit=1)
+    t0 = time.monotonic()
+    info = wait_for_status(http, job, timeout=15)
+    assert time.monotonic() - t0 < 5
+    assert info["status"] == "failed"
+    assert "time limit of 1 s exceeded" in info["message"]
+    r = http.get(f"/jobs/{job}/results")
+    assert r.status_code == 504
+    assert r.headers["content-type"] == "application/problem+json"
+    assert r.json()["type"] == "/problems/time-limit-exceeded"
+    assert r.json()["instance"] == f"/jobs/{job}"
+
+
+def test_result_not_ready(http) -> None:
+    job = _sleep(http, 2, 20)
+    r = http.get(f"/jobs/{job}/results")
+    assert r.status_code == 404 and r.json()["type"] == "/problems/result-not-ready"
+    http.delete(f"/jobs/{job}")
+
+
+def test_job_list_filter_and_paging(http) -> None:
+    mine = [_sleep(http, 0, 1) for _ in range(5)]
+    for job in mine:
+        wait_for_status(http, job)
+    page = http.get("/jobs", params={"processID": "diagnostics.sleep", "status": "successful",
+                                     "limit": 2}).json()
+    assert len(page["jobs"]) == 2 and page["numberMatched"] >= 5
+    assert all(j["processID"] == "diagnostics.sleep" and j["status"] == "successful"
+               for j in page["jobs"])
+    assert page["jobs"][0]["jobID"] == mine[-1]  # newest first
+    nxt = next(link["href"] for link in page["links"] if link["rel"] == "next")
+    page2 = http.get(nxt).json()
+    assert page2["jobs"][0]["jobID"] == mine[-3]
+    assert any(link["rel"] == "prev" for link in page2["links"])
+    none = http.get("/jobs", params={"processID": "no.such"}).json()
+    assert none["jobs"] == [] and none["numberMatched"] == 0
+
+
+def test_metrics_count_jobs(http) -> None:
+    text = http.get("/metrics").text
+    assert 'morphserve_jobs{status="successful"}' in text
+    assert "morphserve_workers 2" in text
