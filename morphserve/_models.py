@@ -1,0 +1,234 @@
+"""What the SDK hands back: small frozen dataclasses and a read-only mapping of results.
+
+Each model is built from the JSON document of the HTTP contract by its ``from_json``
+classmethod, which raises :class:`~morphserve.ProtocolError` when a required member is
+missing, so a server drifting from the contract fails loudly rather than with a KeyError.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from datetime import datetime
+from typing import Any
+
+import numpy as np
+
+from ._exceptions import ProtocolError
+
+__all__ = [
+    "JOB_STATES",
+    "JobStatus",
+    "ProcessDescription",
+    "ProcessSummary",
+    "Results",
+    "to_json_value",
+]
+
+JOB_STATES = ("accepted", "running", "successful", "failed", "dismissed")
+"""Every job status, in the order a job goes through them."""
+_FINAL_STATES = frozenset({"successful", "failed", "dismissed"})
+
+
+def _member(document: Mapping[str, Any], name: str, what: str) -> Any:
+    try:
+        return document[name]
+    except (KeyError, TypeError):
+        raise ProtocolError(f"Expected {what} to hold `{name}`, got {document!r:.200}.") from None
+
+
+def _timestamp(value: Any, name: str) -> datetime | None:
+    if value is None:
+        return None
+    try:
+        return datetime.fromisoformat(value)
+    except (TypeError, ValueError):
+        raise ProtocolError(f"Expected `{name}` to be an ISO-8601 time, got {value!r}.") from None
+
+
+@dataclass(frozen=True)
+class ProcessSummary:
+    """One process of the catalog, as ``GET /processes`` lists it."""
+
+    id: str
+    title: str
+    description: str
+    version: str | None
+    job_control_options: tuple[str, ...]
+
+    @classmethod
+    def _fields_from_json(cls, document: Mapping[str, Any]) -> dict[str, Any]:
+        return {
+            "id": _member(document, "id", "a process"),
+            "title": document.get("title") or "",
+            "description": document.get("description") or "",
+            "version": document.get("version"),
+            "job_control_options": tuple(document.get("jobControlOptions") or ()),
+        }
+
+    @classmethod
+    def from_json(cls, document: Mapping[str, Any]) -> ProcessSummary:
+        """Build from one entry of the ``processes`` list."""
+        return cls(**cls._fields_from_json(document))
+
+
+@dataclass(frozen=True)
+class ProcessDescription(ProcessSummary):
+    """A process with its inputs and outputs, as ``GET /processes/{id}`` describes it.
+
+    ``inputs`` maps each input name to its description (``title``, ``description``, ``schema``
+    holding a JSON Schema with any ``default``, ``minOccurs``, ``maxOccurs``); ``outputs`` maps
+    each output name to its ``title``, ``description`` and ``schema``. ``raw`` is the whole
+    document.
+    """
+
+    inputs: dict[str, dict[str, Any]]
+    outputs: dict[str, dict[str, Any]]
+    raw: dict[str, Any] = field(repr=False, compare=False)
+
+    @classmethod
+    def from_json(cls, document: Mapping[str, Any]) -> ProcessDescription:
+        """Build from the process description document."""
+        return cls(
+            **cls._fields_from_json(document),
+            inputs=dict(document.get("inputs") or {}),
+            outputs=dict(document.get("outputs") or {}),
+            raw=dict(document),
+        )
+
+
+@dataclass(frozen=True)
+class JobStatus:
+    """Where a job stands, as ``GET /jobs/{id}`` answers (the statusInfo document).
+
+    ``status`` is one of ``accepted``, ``running``, ``successful``, ``failed``,
+    ``dismissed``; ``progress`` is 0 to 100 (None when the service did not say); times are
+    timezone-aware when the service sends an offset, as it does.
+    """
+
+    job_id: str
+    process_id: str | None
+    status: str
+    progress: int | None = None
+    message: str | None = None
+    created: datetime | None = None
+    started: datetime | None = None
+    finished: datetime | None = None
+    updated: datetime | None = None
+    raw: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def done(self) -> bool:
+        """True once the job has ended: successful, failed or dismissed."""
+        return self.status in _FINAL_STATES
+
+    @classmethod
+    def from_json(cls, document: Mapping[str, Any]) -> JobStatus:
+        """Build from a statusInfo document."""
+        progress = document.get("progress")
+        return cls(
+            job_id=str(_member(document, "jobID", "a job status")),
+            process_id=document.get("processID"),
+            status=str(_member(document, "status", "a job status")),
+            progress=None if progress is None else int(progress),
+            message=document.get("message") or None,
+            created=_timestamp(document.get("created"), "created"),
+            started=_timestamp(document.get("started"), "started"),
+            finished=_timestamp(document.get("finished"), "finished"),
+            updated=_timestamp(document.get("updated"), "updated"),
+            raw=dict(document),
+        )
+
+
+def _from_json_value(value: Any) -> Any:
+    """A JSON list as a numpy array when it is a regular grid of numbers, else unchanged."""
+    if not isinstance(value, list):
+        return value
+    try:
+        array = np.asarray(value)
+    except ValueError:  # ragged: lists of lists of different lengths
+        return value
+    if array.dtype.kind not in "biuf":  # strings, nulls, objects, ints beyond int64
+        return value
+    return array
+
+
+class Results(Mapping[str, Any]):
+    """The outputs of a successful job: a read-only mapping of output name to value.
+
+    JSON arrays come back as numpy arrays (lists of ints stay int, of bools stay bool); ragged
+    lists, lists of strings and objects stay as JSON gave them; numbers, booleans and strings
+    are plain Python. ``raw`` is the results document as JSON values.
+    """
+
+    __slots__ = ("_raw", "_values")
+
+    def __init__(self, document: Mapping[str, Any]) -> None:
+        self._raw = dict(document)
+        self._values = {name: _from_json_value(value) for name, value in self._raw.items()}
+
+    @property
+    def raw(self) -> dict[str, Any]:
+        """The results document as the service sent it (JSON values)."""
+        return self._raw
+
+    def __getitem__(self, name: str) -> Any:
+        try:
+            return self._values[name]
+        except KeyError:
+            known = ", ".join(self._values) or "none"
+            raise KeyError(f"No output {name!r}; the outputs are: {known}.") from None
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def __repr__(self) -> str:
+        parts = []
+        for name, value in self._values.items():
+            if isinstance(value, np.ndarray):
+                parts.append(f"{name}=<{value.dtype} array {value.shape}>")
+            else:
+                parts.append(f"{name}={value!r:.40}")
+        return f"Results({', '.join(parts)})"
+
+
+def to_json_value(value: Any, name: str = "input") -> Any:
+    """An input value as plain JSON: numpy arrays become lists, numpy scalars numbers.
+
+    Raises ValueError for NaN or infinity (JSON has no such numbers) and TypeError for a value
+    JSON cannot hold, naming the input.
+    """
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "biuf":
+            raise TypeError(
+                f"Expected `{name}` to be an array of numbers or booleans, got dtype {value.dtype}."
+            )
+        if value.dtype.kind == "f" and not np.isfinite(value).all():
+            raise ValueError(f"Expected `{name}` to hold finite numbers, got NaN or infinity.")
+        return value.tolist()
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ValueError(f"Expected `{name}` to be a finite number, got {value}.")
+    if isinstance(value, Mapping):
+        return {str(k): to_json_value(v, f"{name}.{k}") for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_json_value(v, f"{name}[{i}]") for i, v in enumerate(value)]
+    if value is None or isinstance(value, (str, int, float, bool)):
+        return value
+    if hasattr(value, "__array__"):
+        return to_json_value(np.asarray(value), name)
+    raise TypeError(
+        f"Expected `{name}` to be a numpy array, number, string, list or dict, "
+        f"got {type(value).__name__}."
+    )
+
+
+def dumps(document: Any) -> bytes:
+    """Compact UTF-8 JSON of an already converted document."""
+    return json.dumps(document, separators=(",", ":"), allow_nan=False).encode()
