@@ -73,9 +73,10 @@ def _as_numeric_array(x: Any, *, name: str, expected: str) -> np.ndarray:
     """``np.asarray`` that turns ragged, non-numeric, bool and complex input into errors."""
     try:
         arr = np.asarray(x)
-    except (ValueError, TypeError) as exc:  # numpy 2 raises ValueError on ragged input
+    except (ValueError, TypeError):  # numpy 2 raises ValueError on ragged input
         raise InvalidInputError(
-            f"Expected `{name}` to be {expected}, got a ragged or malformed sequence ({exc}).",
+            f"Expected `{name}` to be {expected}, got a ragged sequence (rows of different "
+            "lengths) or one numpy cannot read.",
             field=name,
         ) from None
     if arr.dtype.kind not in _NUMERIC_KINDS:
