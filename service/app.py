@@ -88,4 +88,33 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(landing.router)
     app.include_router(processes.router)
     app.include_router(jobs.router)
+    app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     return app
+
+
+def _openapi(app: FastAPI) -> dict[str, Any]:
+    """FastAPI's document, with every error response as the problem+json it really is
+    (FastAPI files error models under application/json and adds its own 422 model)."""
+    if app.openapi_schema is None:
+        from fastapi.openapi.utils import get_openapi
+
+        doc = get_openapi(title=app.title, version=app.version, summary=app.summary,
+                          description=app.description, routes=app.routes)
+        problem = {"application/problem+json": {"schema": {
+            "$ref": "#/components/schemas/Problem"}}}
+        for path in doc["paths"].values():
+            for op in path.values():
+                for code, resp in op.get("responses", {}).items():
+                    if code[0] in "45":
+                        resp["content"] = problem
+        schemas = doc.setdefault("components", {}).setdefault("schemas", {})
+        for unused in ("HTTPValidationError", "ValidationError"):
+            schemas.pop(unused, None)
+        from service.routes.docs import FieldError, Problem
+
+        schemas["Problem"] = Problem.model_json_schema(
+            ref_template="#/components/schemas/{model}")
+        schemas["Problem"].pop("$defs", None)
+        schemas["FieldError"] = FieldError.model_json_schema()
+        app.openapi_schema = doc
+    return app.openapi_schema

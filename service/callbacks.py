@@ -43,7 +43,11 @@ def check_subscriber(subscriber: Any, allowed_hosts: list[str]) -> dict[str, str
         else:
             parts = urlsplit(uri)
             host = parts.hostname or ""
-            hostport = f"{host}:{parts.port}" if parts.port else host
+            try:
+                port = parts.port
+            except ValueError:  # "host:abc", "host:99999"
+                port, host = None, ""
+            hostport = f"{host}:{port}" if port else host
             if parts.scheme not in ("http", "https") or not host:
                 msg = f"expected an http(s) URL, got {uri!r}"
             elif host not in allowed_hosts and hostport not in allowed_hosts:

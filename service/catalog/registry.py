@@ -45,11 +45,11 @@ def _numpydoc_attributes(doc: str | None) -> dict[str, str]:
                      and set(lines[i + 1].strip()) == {"-"})
     except StopIteration:
         return {}
+    body = lines[start + 2:]
     name = None
-    for ln in lines[start + 2:]:
-        if ln.strip() and set(ln.strip()) == {"-"}:  # next section's underline
-            if name is not None:
-                out.pop(name, None)  # the previous line was that section's title
+    for i, ln in enumerate(body):
+        nxt = body[i + 1].strip() if i + 1 < len(body) else ""
+        if ln.strip() and nxt and set(nxt) == {"-"}:  # the title of the next section
             break
         m = re.match(r"^(\w+)\s*:", ln)
         if m and not ln.startswith(" "):

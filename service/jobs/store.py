@@ -18,6 +18,8 @@ heavy writes to. Pickle is only ever read back from files this service wrote its
 
 from __future__ import annotations
 
+import asyncio
+import functools
 import json
 import os
 import pickle
@@ -25,12 +27,15 @@ import sqlite3
 import threading
 import time
 import uuid
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 __all__ = ["JobRecord", "JobStore", "ACTIVE", "FINISHED", "write_atomic", "result_path"]
+
+T = TypeVar("T")
 
 ACTIVE = ("accepted", "running")
 FINISHED = ("successful", "failed", "dismissed")
@@ -135,17 +140,35 @@ class JobStore:
         self.inline_input_bytes = inline_input_bytes
         for sub in ("results", "inputs"):
             (self.data_dir / sub).mkdir(parents=True, exist_ok=True)
+        path = self.data_dir / "jobs.sqlite3"
+        # One connection writes, another reads: in WAL mode readers never wait for a commit's
+        # fsync, and the event loop only ever reads.
         self._lock = threading.Lock()
-        self._db = sqlite3.connect(self.data_dir / "jobs.sqlite3", isolation_level=None,
-                                   check_same_thread=False)
+        self._db = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
         self._db.execute("PRAGMA journal_mode=WAL")
         self._db.execute(f"PRAGMA synchronous={'FULL' if fsync else 'NORMAL'}")
         self._db.execute("PRAGMA busy_timeout=5000")
         self._db.executescript(_SCHEMA)
+        self._rlock = threading.Lock()
+        self._rdb = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
+        self._rdb.execute("PRAGMA busy_timeout=5000")
+        self._writer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="morphserve-store")
 
     def close(self) -> None:
+        self._writer.shutdown(wait=True)
         with self._lock:
             self._db.close()
+        with self._rlock:
+            self._rdb.close()
+
+    def write(self, method: Callable[..., T], /, *args: Any, **kwargs: Any
+              ) -> asyncio.Future[T]:
+        """Run a writing ``method`` of this store on its writer thread; await the result.
+
+        Writes happen in submission order, off the event loop (a commit waits for its fsync
+        without holding the GIL, so the loop serves other requests meanwhile)."""
+        return asyncio.get_running_loop().run_in_executor(
+            self._writer, functools.partial(method, *args, **kwargs))
 
     # -- writing -----------------------------------------------------------------------------
     def create(self, *, process: str, inputs: Mapping[str, Any], request: Mapping[str, Any],
@@ -160,13 +183,18 @@ class JobStore:
             write_atomic(self.data_dir / inputs_file, blob, fsync=self.fsync)
             blob = None
         now = time.time()
-        with self._lock:
-            self._db.execute(
-                "INSERT INTO jobs (id, process, status, created, updated, request, inputs, "
-                "inputs_file, time_limit, idempotency_key, request_hash) "
-                "VALUES (?, ?, 'accepted', ?, ?, ?, ?, ?, ?, ?, ?)",
-                (job_id, process, now, now, json.dumps(dict(request)), blob, inputs_file,
-                 time_limit, idempotency_key, request_hash))
+        try:
+            with self._lock:
+                self._db.execute(
+                    "INSERT INTO jobs (id, process, status, created, updated, request, inputs, "
+                    "inputs_file, time_limit, idempotency_key, request_hash) "
+                    "VALUES (?, ?, 'accepted', ?, ?, ?, ?, ?, ?, ?, ?)",
+                    (job_id, process, now, now, json.dumps(dict(request)), blob, inputs_file,
+                     time_limit, idempotency_key, request_hash))
+        except BaseException:  # e.g. the idempotency key raced in: leave no orphan file
+            if inputs_file:
+                (self.data_dir / inputs_file).unlink(missing_ok=True)
+            raise
         rec = self.get(job_id)
         assert rec is not None
         return rec
@@ -197,9 +225,11 @@ class JobStore:
 
     def finish(self, job_id: str, status: str, message: str,
                problem: Mapping[str, Any] | None = None,
-               outputs: Mapping[str, Any] | None = None) -> bool:
+               outputs: Mapping[str, Any] | None = None,
+               started: float | None = None) -> bool:
         """running/accepted -> successful/failed, with the outputs in the same transaction.
-        A dismissed job stays dismissed."""
+        A dismissed job stays dismissed. ``started`` fills in a start time never recorded
+        (fast-path jobs are not marked running: they take milliseconds)."""
         now = time.time()
         blob = pickle.dumps(dict(outputs), protocol=5) if outputs is not None else None
         with self._lock:
@@ -208,9 +238,10 @@ class JobStore:
                 cur = self._db.execute(
                     "UPDATE jobs SET status = ?, message = ?, finished = ?, updated = ?, "
                     "problem = ?, progress = CASE WHEN ? = 'successful' THEN 100 ELSE progress "
-                    "END WHERE id = ? AND status IN ('accepted', 'running')",
+                    "END, started = COALESCE(started, ?) "
+                    "WHERE id = ? AND status IN ('accepted', 'running')",
                     (status, message, now, now, json.dumps(dict(problem)) if problem else None,
-                     status, job_id))
+                     status, started, job_id))
                 if cur.rowcount and blob is not None:
                     self._db.execute("INSERT OR REPLACE INTO results (id, outputs) VALUES (?, ?)",
                                      (job_id, blob))
@@ -241,14 +272,14 @@ class JobStore:
 
     # -- reading -----------------------------------------------------------------------------
     def get(self, job_id: str) -> JobRecord | None:
-        with self._lock:
-            row = self._db.execute(f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE id = ?",
+        with self._rlock:
+            row = self._rdb.execute(f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE id = ?",
                                    (job_id,)).fetchone()
         return _record(row) if row else None
 
     def by_idempotency_key(self, key: str) -> JobRecord | None:
-        with self._lock:
-            row = self._db.execute(
+        with self._rlock:
+            row = self._rdb.execute(
                 f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE idempotency_key = ?",
                 (key,)).fetchone()
         return _record(row) if row else None
@@ -262,27 +293,27 @@ class JobStore:
                 where.append(f"{col} IN ({', '.join('?' * len(vals))})")
                 args += vals
         clause = f"WHERE {' AND '.join(where)}" if where else ""
-        with self._lock:
-            total = self._db.execute(f"SELECT COUNT(*) FROM jobs {clause}", args).fetchone()[0]
-            rows = self._db.execute(
+        with self._rlock:
+            total = self._rdb.execute(f"SELECT COUNT(*) FROM jobs {clause}", args).fetchone()[0]
+            rows = self._rdb.execute(
                 f"SELECT {', '.join(_COLUMNS)} FROM jobs {clause} ORDER BY seq DESC "
                 "LIMIT ? OFFSET ?", (*args, limit, offset)).fetchall()
         return [_record(r) for r in rows], total
 
     def count_active(self) -> int:
-        with self._lock:
-            return self._db.execute(
+        with self._rlock:
+            return self._rdb.execute(
                 "SELECT COUNT(*) FROM jobs WHERE status IN ('accepted', 'running')").fetchone()[0]
 
     def count_by_status(self) -> dict[str, int]:
-        with self._lock:
-            rows = self._db.execute("SELECT status, COUNT(*) FROM jobs GROUP BY status")
+        with self._rlock:
+            rows = self._rdb.execute("SELECT status, COUNT(*) FROM jobs GROUP BY status")
             return dict(rows.fetchall())
 
     def unfinished(self) -> list[JobRecord]:
         """Jobs accepted or running, oldest first (what a restart must finish)."""
-        with self._lock:
-            rows = self._db.execute(
+        with self._rlock:
+            rows = self._rdb.execute(
                 f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE status IN "
                 "('accepted', 'running') ORDER BY seq").fetchall()
         return [_record(r) for r in rows]
@@ -291,8 +322,8 @@ class JobStore:
         """The job's validated inputs, as the algorithm's keyword arguments."""
         if job.inputs_file:
             return pickle.loads((self.data_dir / job.inputs_file).read_bytes())
-        with self._lock:
-            (blob,) = self._db.execute("SELECT inputs FROM jobs WHERE id = ?",
+        with self._rlock:
+            (blob,) = self._rdb.execute("SELECT inputs FROM jobs WHERE id = ?",
                                        (job.id,)).fetchone()
         return pickle.loads(blob)
 
@@ -308,8 +339,8 @@ class JobStore:
 
     def result(self, job_id: str) -> dict[str, Any]:
         """The outputs of a successful job."""
-        with self._lock:
-            row = self._db.execute("SELECT outputs FROM results WHERE id = ?",
+        with self._rlock:
+            row = self._rdb.execute("SELECT outputs FROM results WHERE id = ?",
                                    (job_id,)).fetchone()
         if row is not None:
             return pickle.loads(row[0])

@@ -91,13 +91,13 @@ async def dismiss(jobId: str, request: Request) -> JSONResponse:  # noqa: N803
     st = state(request)
     job = get_job(st, jobId)
     if job.active:
-        st.store.dismiss(job.id)
+        await st.store.write(st.store.dismiss, job.id)
         await st.engine.dismiss(job.id)
         job = get_job(st, jobId)
         if job.status != "dismissed":  # it ended between the two reads
-            st.store.delete(job.id)
+            await st.store.write(st.store.delete, job.id)
     else:
-        st.store.delete(job.id)
+        await st.store.write(st.store.delete, job.id)
     info = status_info(job)
     info.update(status="dismissed", links=[l for l in info["links"] if l["rel"] != "results"])
     return JSONResponse(info)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import hashlib
 import math
 import sqlite3
@@ -172,9 +171,7 @@ async def _create(st: State, process: Process, spec: dict[str, Any], key: str | 
                   digest: str | None):  # noqa: ANN202
     args = dict(process=process.id, inputs=spec["kwargs"], request=spec["request"],
                 time_limit=spec["time_limit"], idempotency_key=key, request_hash=digest)
-    if spec["nbytes"] < 2**20:
-        return st.store.create(**args)
-    return await asyncio.to_thread(st.store.create, **args)
+    return await st.store.write(st.store.create, **args)
 
 
 def _wait_for(prefer: dict[str, str | None], process: Process, mode: Any,

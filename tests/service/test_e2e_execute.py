@@ -148,8 +148,11 @@ def test_dask_path_gives_the_same_answer(server) -> None:
 
 
 def test_idempotency_key(http) -> None:
+    import uuid
+
+    key = f"key-{uuid.uuid4()}"
     body = {"inputs": {"source": SOURCE, "target": TARGET}}
-    h = {"Idempotency-Key": "key-1", "Prefer": "respond-async"}
+    h = {"Idempotency-Key": key, "Prefer": "respond-async"}
     a = http.post("/processes/alignment.rigid/execution", headers=h, json=body)
     b = http.post("/processes/alignment.rigid/execution", headers=h, json=body)
     assert a.status_code == b.status_code == 201
@@ -157,7 +160,7 @@ def test_idempotency_key(http) -> None:
     first = a.json()["jobID"]
     # a retry that waits gets the first job's results
     w = http.post("/processes/alignment.rigid/execution",
-                  headers={"Idempotency-Key": "key-1", "Prefer": "wait=10"}, json=body)
+                  headers={"Idempotency-Key": key, "Prefer": "wait=10"}, json=body)
     assert w.status_code == 200 and w.headers["content-location"] == f"/jobs/{first}/results"
     np.testing.assert_allclose(w.json()["rotation"], R_Z90, atol=1e-12)
     c = http.post("/processes/alignment.rigid/execution", headers=h,

@@ -1,0 +1,143 @@
+"""Service overhead of a 1,000-point rigid alignment, side by side in one run.
+
+Prints one table: p50/p95 latency of `POST /processes/alignment.rigid/execution` with
+`Prefer: wait=10` (the body pre-encoded, so the client's JSON encoder is not measured) on the
+fast path and through Dask, the same alignment called in-process, their ratio, the rotation
+error of each, and jobs/s with 16 concurrent clients. Goal (issue #2): p50 <= 15 ms and
+>= 150 jobs/s. The machine is shared and noisy: each figure is the median of --repeats runs.
+
+    python bench/service_overhead.py [--requests 200] [--repeats 3] [--clients 16]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import orjson
+from scipy.spatial.transform import Rotation
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT)]  # the packages first: tests/algorithms must not shadow algorithms
+sys.path.append(str(ROOT / "tests"))
+from live import LiveServer  # noqa: E402
+
+from algorithms.alignment import rigid  # noqa: E402
+
+PATH = "/processes/alignment.rigid/execution"
+
+
+def case(seed: int = 0, n: int = 1000):  # noqa: ANN201
+    rng = np.random.default_rng(seed)
+    X = rng.normal(size=(n, 3))
+    R = Rotation.random(random_state=seed).as_matrix()
+    return X, X @ R.T + rng.normal(size=3), R
+
+
+def angle_deg(A: np.ndarray, B: np.ndarray) -> float:
+    """Angle of the rotation between A and B (stable near 0, unlike arccos of the trace)."""
+    return float(np.degrees(Rotation.from_matrix(np.asarray(A).T @ B).magnitude()))
+
+
+def latency(url: str, body: bytes, n: int) -> tuple[list[float], float]:
+    import httpx
+
+    headers = {"Prefer": "wait=10", "Content-Type": "application/json"}
+    times, err = [], 0.0
+    with httpx.Client(base_url=url, timeout=30) as c:
+        for _ in range(10):  # warm-up
+            c.post(PATH, content=body, headers=headers)
+        for _ in range(n):
+            t = time.perf_counter()
+            r = c.post(PATH, content=body, headers=headers)
+            times.append(time.perf_counter() - t)
+            assert r.status_code == 200, r.text
+        err = r.json()["rotation"]
+    return times, err
+
+
+def throughput(url: str, body: bytes, clients: int, per_client: int) -> float:
+    import httpx
+
+    headers = {"Prefer": "wait=30", "Content-Type": "application/json"}
+    errors: list[str] = []
+
+    def work() -> None:
+        with httpx.Client(base_url=url, timeout=60) as c:
+            for _ in range(per_client):
+                r = c.post(PATH, content=body, headers=headers)
+                if r.status_code != 200:
+                    errors.append(r.text)
+
+    threads = [threading.Thread(target=work) for _ in range(clients)]
+    t = time.perf_counter()
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    wall = time.perf_counter() - t
+    assert not errors, errors[:3]
+    return clients * per_client / wall
+
+
+def in_process(X: np.ndarray, Y: np.ndarray, n: int) -> tuple[list[float], np.ndarray]:
+    times = []
+    for _ in range(n):
+        t = time.perf_counter()
+        res = rigid(X, Y)
+        times.append(time.perf_counter() - t)
+    return times, res.rotation
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--requests", type=int, default=200)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--clients", type=int, default=16)
+    ap.add_argument("--per-client", type=int, default=25)
+    args = ap.parse_args()
+
+    X, Y, R = case()
+    body = orjson.dumps({"inputs": {"source": X, "target": Y}},
+                        option=orjson.OPT_SERIALIZE_NUMPY)
+    rows = []
+    ref_times, ref_rot = [], None
+    for _ in range(args.repeats):
+        t, ref_rot = in_process(X, Y, args.requests)
+        ref_times.append(statistics.median(t))
+    ref_p50 = statistics.median(ref_times)
+    ref_err = angle_deg(ref_rot, R)
+
+    for label, env in (("fast path", {}), ("through Dask", {"MORPHSERVE_FAST_PATH_BYTES": "0"})):
+        with tempfile.TemporaryDirectory() as tmp:
+            srv = LiveServer(Path(tmp) / "data", {"MORPHSERVE_TEST_PROCESSES": "0", **env})
+            srv.start()
+            try:
+                p50s, p95s, rates = [], [], []
+                for _ in range(args.repeats):
+                    times, rot = latency(srv.url, body, args.requests)
+                    p50s.append(statistics.median(times))
+                    p95s.append(float(np.percentile(times, 95)))
+                    rates.append(throughput(srv.url, body, args.clients, args.per_client))
+            finally:
+                srv.stop()
+        rows.append((label, statistics.median(p50s), statistics.median(p95s),
+                     statistics.median(rates), angle_deg(rot, R)))
+
+    print(f"rigid alignment, 1,000 points, {args.requests} requests x {args.repeats} runs "
+          f"(medians); {args.clients} concurrent clients for jobs/s")
+    print(f"{'path':<16}{'p50 ms':>9}{'p95 ms':>9}{'in-proc ms':>12}{'ratio':>9}"
+          f"{'jobs/s':>9}{'rot err °':>12}{'in-proc err °':>15}")
+    for label, p50, p95, rate, err in rows:
+        print(f"{label:<16}{p50 * 1e3:>9.2f}{p95 * 1e3:>9.2f}{ref_p50 * 1e3:>12.3f}"
+              f"{p50 / ref_p50:>9.1f}{rate:>9.0f}{err:>12.1e}{ref_err:>15.1e}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,466 @@
+"""The catalog: every process is well formed, described, runnable on its examples, and its
+parameter model is strict (no server, no Dask)."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pytest
+from pydantic import ValidationError
+
+from service import jsonio
+from service.catalog import lookup, processes, registry
+from service.catalog.registry import Output, Process, Registry, _numpydoc_attributes, outputs_of
+from service.diagnostics import diagnostics
+from service.problems import pydantic_errors
+from service.representation import process_description, process_summary
+
+ALL = [*registry.values(), *diagnostics.values()]
+NEVER_RUN = {"diagnostics.crash"}  # ends the process that runs it
+
+
+def _ids(p: Process) -> str:
+    return p.id
+
+
+def _field_schemas(p: Process) -> dict[str, dict[str, Any]]:
+    return p.params.model_json_schema(mode="validation")["properties"]
+
+
+def _types(schema: dict[str, Any]) -> set[str]:
+    """The JSON types a property schema admits besides null."""
+    if "anyOf" in schema:
+        return set().union(*(_types(s) for s in schema["anyOf"])) - {"null"}
+    t = schema.get("type")
+    return {t} if isinstance(t, str) else set(t or ())
+
+
+def _example_inputs(p: Process) -> dict[str, Any]:
+    """The first example of every input that has one (required inputs must have one)."""
+    out = {}
+    for name, schema in _field_schemas(p).items():
+        if schema.get("examples"):
+            out[name] = schema["examples"][0]
+        else:
+            assert not p.params.model_fields[name].is_required(), \
+                f"{p.id}: required input {name!r} has no example"
+    return out
+
+
+# -- identity ------------------------------------------------------------------------------
+def test_catalog_is_not_empty() -> None:
+    assert len(registry) >= 2
+    assert {"alignment.rigid", "assignment.nearest"} <= set(registry)
+    assert set(diagnostics) == {"diagnostics.sleep", "diagnostics.crash"}
+    assert not set(registry) & set(diagnostics)
+
+
+@pytest.mark.parametrize("p", ALL, ids=_ids)
+def test_id_is_family_dot_method(p: Process) -> None:
+    assert re.fullmatch(r"[a-z][a-z0-9_]*\.[a-z][a-z0-9_]*", p.id), p.id
+    family, method = p.id.split(".")
+    assert p.family == family
+    # the catalog module that registers it is named after the family ...
+    module_family = p.params.__module__.rsplit(".", 1)[-1]
+    assert module_family == family, (p.id, p.params.__module__)
+    # ... and so is the algorithm's package; the method is the function's name
+    if p.id in registry:
+        assert p.function.__module__.split(".")[:2] == ["algorithms", family]
+    assert p.function.__name__ == method
+    assert registry.get(p.id, diagnostics.get(p.id)) is p
+
+
+def test_lookup_and_processes() -> None:
+    assert lookup("alignment.rigid") is registry["alignment.rigid"]
+    assert lookup("diagnostics.sleep") is None
+    assert lookup("diagnostics.sleep", test_processes=True) is diagnostics["diagnostics.sleep"]
+    assert lookup("no.such", test_processes=True) is None
+    assert processes() == list(registry.values())
+    assert processes(test_processes=True) == ALL
+
+
+# -- descriptions --------------------------------------------------------------------------
+@pytest.mark.parametrize("p", ALL, ids=_ids)
+def test_every_output_is_described(p: Process) -> None:
+    fields = list(p.result.__dataclass_fields__)
+    assert list(p.outputs) == fields
+    for name, out in p.outputs.items():
+        assert out.name == name
+        assert out.description.strip(), f"{p.id}: output {name!r} has no description"
+        assert out.title.strip()
+        assert isinstance(out.schema, dict) and out.schema, f"{p.id}: output {name!r} has no schema"
+        assert out.schema.get("type") in ("array", "number", "integer", "boolean", "string")
+
+
+@pytest.mark.parametrize("p", ALL, ids=_ids)
+def test_every_input_is_described(p: Process) -> None:
+    assert p.params.model_fields, p.id
+    for name, field in p.params.model_fields.items():
+        assert field.description and field.description.strip(), \
+            f"{p.id}: input {name!r} has no description"
+
+
+_SCHEMA_TYPES = {"array", "boolean", "integer", "null", "number", "object", "string"}
+
+
+def _check_json_schema(s: Any, where: str) -> None:
+    """A structural check of the JSON Schema keywords the catalog uses."""
+    assert isinstance(s, dict), where
+    if "type" in s:
+        types = s["type"] if isinstance(s["type"], list) else [s["type"]]
+        assert types and set(types) <= _SCHEMA_TYPES, (where, s["type"])
+    for key in ("anyOf", "oneOf", "allOf"):
+        if key in s:
+            assert isinstance(s[key], list) and s[key], (where, key)
+            for i, sub in enumerate(s[key]):
+                _check_json_schema(sub, f"{where}.{key}[{i}]")
+    if "items" in s:
+        _check_json_schema(s["items"], f"{where}.items")
+    for key in ("minItems", "maxItems"):
+        if key in s:
+            assert isinstance(s[key], int) and s[key] >= 0, (where, key)
+    for key in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
+        if key in s:
+            assert isinstance(s[key], int | float) and not isinstance(s[key], bool), (where, key)
+    if "enum" in s:
+        assert isinstance(s["enum"], list) and s["enum"], where
+    if "examples" in s:
+        assert isinstance(s["examples"], list), where
+    if "$ref" in s:
+        ref = s["$ref"]
+        assert ref.startswith("#/$defs/") and ref.split("/")[-1] in s.get("$defs", {}), where
+
+
+@pytest.mark.parametrize("p", ALL, ids=_ids)
+def test_process_description(p: Process) -> None:
+    desc = process_description(p)
+    text = json.dumps(desc, allow_nan=False)  # JSON-serialisable, standard JSON
+    assert json.loads(text) == desc
+    summary = process_summary(p)
+    assert {k: desc[k] for k in summary} == summary
+    assert desc["id"] == p.id and desc["title"] and desc["description"]
+    assert set(desc["inputs"]) == set(p.params.model_fields)
+    for name, inp in desc["inputs"].items():
+        schema = inp["schema"]
+        assert isinstance(schema, dict)
+        assert "type" in schema or "anyOf" in schema, (p.id, name, schema)
+        _check_json_schema(schema, f"{p.id}.{name}")
+        required = p.params.model_fields[name].is_required()
+        assert inp["minOccurs"] == (1 if required else 0), (p.id, name)
+        assert inp["maxOccurs"] == 1
+        assert inp["title"] and inp["description"]
+        if not required:
+            assert "default" in schema, (p.id, name)
+    assert set(desc["outputs"]) == set(p.outputs)
+    for name, out in desc["outputs"].items():
+        assert out["description"] and out["schema"]
+        _check_json_schema(out["schema"], f"{p.id}.outputs.{name}")
+
+
+# -- running the examples ------------------------------------------------------------------
+_KIND = {"array": np.ndarray, "number": (float, np.floating), "integer": (int, np.integer),
+         "boolean": (bool, np.bool_), "string": str}
+
+
+@pytest.mark.parametrize("p", [p for p in ALL if p.id not in NEVER_RUN], ids=_ids)
+def test_run_first_examples(p: Process) -> None:
+    raw = _example_inputs(p)
+    if p.id == "diagnostics.sleep":
+        raw = {"seconds": 0.0, "steps": 2}  # no examples; keep it instant
+    params = p.params.model_validate(raw, context={"max_points": 1000})
+    kwargs = p.kwargs(params)
+    assert set(kwargs) == set(p.params.model_fields)
+    out = p.run(kwargs)
+    assert list(out) == list(p.outputs)
+    for name, value in out.items():
+        assert value is not None, (p.id, name)
+        kind = _KIND[p.outputs[name].schema["type"]]
+        assert isinstance(value, kind), (p.id, name, type(value))
+        if isinstance(value, np.ndarray):
+            assert value.size == 0 or np.isfinite(value).all(), (p.id, name)
+    json.loads(jsonio.dumps(out))  # what the service writes
+
+
+def test_run_reports_progress() -> None:
+    p = diagnostics["diagnostics.sleep"]
+    assert p.takes_progress and p.long
+    seen = []
+    out = p.run({"seconds": 0.0, "steps": 3}, progress=lambda *a: seen.append(a))
+    assert out["steps"] == 3 and len(seen) == 3
+
+
+def test_rigid_example_is_solved() -> None:
+    p = registry["alignment.rigid"]
+    raw = _example_inputs(p)
+    out = p.run(p.kwargs(p.params.model_validate(raw)))
+    moved = np.asarray(raw["source"], float) @ out["rotation"].T + out["translation"]
+    np.testing.assert_allclose(moved, raw["target"], atol=1e-9)
+    assert out["rmse"] < 1e-9 and not out["reflection"]
+
+
+# -- strict parameter models ---------------------------------------------------------------
+def _scalar_fields(kinds: set[str]) -> list[tuple[Process, str]]:
+    return [(p, name) for p in ALL for name, s in _field_schemas(p).items()
+            if _types(s) & kinds]
+
+
+def _case_id(case: tuple[Process, str]) -> str:
+    return f"{case[0].id}:{case[1]}"
+
+
+def _rejects(p: Process, name: str, value: Any) -> None:
+    inputs = {**_example_inputs(p), name: value}
+    with pytest.raises(ValidationError) as info:
+        p.params.model_validate(inputs)
+    locs = [e["loc"] for e in info.value.errors()]
+    assert any(loc and loc[0] == name for loc in locs), (p.id, name, value, locs)
+    named = [e["input"] for e in pydantic_errors(info.value.errors())]
+    assert name in named, (p.id, name, value, named)
+
+
+@pytest.mark.parametrize("p", ALL, ids=_ids)
+def test_unknown_input_refused(p: Process) -> None:
+    _rejects(p, "no_such_input", 1)
+
+
+@pytest.mark.parametrize("case", _scalar_fields({"number", "integer"}), ids=_case_id)
+@pytest.mark.parametrize("value", ["3", "1.5", True])
+def test_numbers_refuse_strings_and_booleans(case: tuple[Process, str], value: Any) -> None:
+    _rejects(*case, value)
+
+
+@pytest.mark.parametrize("case", _scalar_fields({"integer"}), ids=_case_id)
+@pytest.mark.parametrize("value", [3.0, 2.5])
+def test_integers_refuse_floats(case: tuple[Process, str], value: float) -> None:
+    _rejects(*case, value)
+
+
+@pytest.mark.parametrize("case", _scalar_fields({"number"}), ids=_case_id)
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_numbers_refuse_nan_and_inf(case: tuple[Process, str], value: float) -> None:
+    _rejects(*case, value)
+
+
+@pytest.mark.parametrize("case", _scalar_fields({"boolean"}), ids=_case_id)
+@pytest.mark.parametrize("value", [1, 0, "true", 1.0])
+def test_booleans_refuse_numbers_and_strings(case: tuple[Process, str], value: Any) -> None:
+    _rejects(*case, value)
+
+
+@pytest.mark.parametrize("case", _scalar_fields({"string"}), ids=_case_id)
+@pytest.mark.parametrize("value", [1, "no-such-option"])
+def test_options_refuse_others(case: tuple[Process, str], value: Any) -> None:
+    _rejects(*case, value)
+
+
+def test_scalar_cases_exist() -> None:
+    """The parametrised rejection tests above cover something of each kind."""
+    assert _scalar_fields({"number"}) and _scalar_fields({"integer"})
+    assert _scalar_fields({"boolean"}) and _scalar_fields({"string"})
+
+
+def test_numbers_accept_integers_and_optional_none() -> None:
+    p = registry["assignment.nearest"]
+    params = p.params.model_validate({**_example_inputs(p), "max_distance": 2, "k": 2})
+    assert params.max_distance == 2 and params.k == 2
+    assert p.params.model_validate({**_example_inputs(p), "max_distance": None}).max_distance \
+        is None
+
+
+def test_point_inputs_become_float_arrays() -> None:
+    p = registry["alignment.rigid"]
+    params = p.params.model_validate({**_example_inputs(p), "weights": [1, 2, 3, 4]})
+    assert params.source.dtype == np.float64 and params.source.shape == (4, 3)
+    assert params.weights.dtype == np.float64
+    with pytest.raises(ValidationError) as info:
+        p.params.model_validate({**_example_inputs(p), "source": [[0, 0, math.nan]] * 4})
+    assert [e["input"] for e in pydantic_errors(info.value.errors())] == ["source"]
+
+
+def test_max_points_from_context() -> None:
+    p = registry["assignment.nearest"]
+    with pytest.raises(ValidationError) as info:
+        p.params.model_validate(_example_inputs(p), context={"max_points": 2})
+    assert "source" in [e["input"] for e in pydantic_errors(info.value.errors())]
+
+
+def test_cross_input_check_names_its_input() -> None:
+    p = registry["alignment.rigid"]
+    with pytest.raises(ValidationError) as info:
+        p.params.model_validate({**_example_inputs(p), "weights": [1.0, 2.0]})
+    assert [e["input"] for e in pydantic_errors(info.value.errors())] == ["weights"]
+
+
+# -- the numpydoc parser and outputs_of ----------------------------------------------------
+_DOC = """One line summary.
+
+    More text that mentions Attributes but is no section.
+
+    Attributes
+    ----------
+    alpha : float
+        The first value. It has two sentences.
+    beta_2 : (n, 3) int64 array
+        The second value,
+        on two lines.
+    gamma : bool
+
+    Notes
+    -----
+    Some notes: with a colon.
+    delta : not an attribute
+        Because it is in Notes.
+    """
+
+
+def test_numpydoc_attributes_before_another_section() -> None:
+    got = _numpydoc_attributes(_DOC)
+    assert "Notes" not in got and "delta" not in got
+    assert got["alpha"] == "The first value. It has two sentences."
+    assert got["beta_2"] == "The second value, on two lines."
+
+
+def test_numpydoc_last_attribute_before_another_section_is_kept() -> None:
+    assert _numpydoc_attributes(_DOC) == {
+        "alpha": "The first value. It has two sentences.",
+        "beta_2": "The second value, on two lines.",
+        "gamma": "",
+    }
+
+
+def test_numpydoc_single_attribute_before_notes() -> None:
+    doc = """Summary.
+
+    Attributes
+    ----------
+    rmse : float
+        The residual.
+
+    Notes
+    -----
+    Nothing.
+    """
+    assert _numpydoc_attributes(doc) == {"rmse": "The residual."}
+
+
+def test_numpydoc_attributes_at_the_end() -> None:
+    doc = """Summary.
+
+    Attributes
+    ----------
+    x : float
+        Ex.
+    y : int
+        Why,
+        because.
+    """
+    assert _numpydoc_attributes(doc) == {"x": "Ex.", "y": "Why, because."}
+
+
+def test_numpydoc_first_line_on_the_quotes() -> None:
+    doc = """Attributes
+    ----------
+    slept : float
+        Seconds.
+    """
+    assert _numpydoc_attributes(doc) == {"slept": "Seconds."}
+
+
+@pytest.mark.parametrize("doc", [None, "", "Summary only.", "Attributes\nnot underlined\n",
+                                 "Parameters\n----------\nx : int\n    Not an attribute.\n"])
+def test_numpydoc_without_attributes(doc: str | None) -> None:
+    assert _numpydoc_attributes(doc) == {}
+
+
+@dataclass(frozen=True)
+class _HandResult:
+    """A hand-written result.
+
+    Attributes
+    ----------
+    points : (n, 3) float array
+        Where the points went. More detail follows here.
+    rmse : float
+        The residual.
+    count : int
+        How many.
+    ok : bool
+        Whether it worked.
+    label : str
+        A name.
+    """
+
+    points: np.ndarray
+    rmse: float
+    count: int
+    ok: bool
+    label: str
+    maybe: float | None = None
+    undocumented_list: list[int] | None = None
+
+
+def test_outputs_of_hand_written_dataclass() -> None:
+    outs = outputs_of(_HandResult)
+    assert list(outs) == ["points", "rmse", "count", "ok", "label", "maybe",
+                          "undocumented_list"]
+    assert all(isinstance(o, Output) for o in outs.values())
+    assert outs["points"] == Output("points", "Where the points went",
+                                    "Where the points went. More detail follows here.",
+                                    {"type": "array"})
+    assert outs["rmse"].title == "The residual" and outs["rmse"].schema == {"type": "number"}
+    assert outs["count"].schema == {"type": "integer"}
+    assert outs["ok"].schema == {"type": "boolean"}
+    assert outs["label"].schema == {"type": "string"}
+    assert outs["maybe"].schema == {"type": "number", "nullable": True}
+    assert outs["maybe"].description == "" and outs["maybe"].title == "maybe"
+    assert outs["undocumented_list"].title == "undocumented list"
+    assert outs["undocumented_list"].schema == {}
+
+
+def test_process_from_hand_written_dataclass() -> None:
+    from pydantic import Field
+
+    from service.catalog.base import Params
+
+    class HandParams(Params):
+        n: int = Field(2, ge=1, description="Points.")
+
+    def hand(n: int = 2) -> _HandResult:
+        return _HandResult(np.zeros((n, 3)), 0.0, n, True, "x")
+
+    p = Process(id="test.hand", title="t", description="d", function=hand, params=HandParams,
+                result=_HandResult)
+    assert p.family == "test" and not p.takes_progress
+    out = p.run(p.kwargs(HandParams.model_validate({"n": 3})), progress=lambda *a: None)
+    assert out["count"] == 3 and out["points"].shape == (3, 3) and out["maybe"] is None
+
+
+# -- the registry --------------------------------------------------------------------------
+def test_registering_twice_raises() -> None:
+    r = Registry()
+    p = registry["alignment.rigid"]
+    assert r.add(p) is p
+    with pytest.raises(ValueError, match="alignment.rigid"):
+        r.add(p)
+    assert len(r) == 1 and list(r) == ["alignment.rigid"] and r["alignment.rigid"] is p
+
+
+def test_global_registry_refuses_duplicates() -> None:
+    before = list(registry)
+    with pytest.raises(ValueError):
+        registry.add(registry["assignment.nearest"])
+    with pytest.raises(ValueError):
+        diagnostics.add(diagnostics["diagnostics.sleep"])
+    assert list(registry) == before
+
+
+def test_registry_is_a_mapping() -> None:
+    assert "alignment.rigid" in registry and "nope" not in registry
+    assert registry.get("nope") is None
+    with pytest.raises(KeyError):
+        registry["nope"]
