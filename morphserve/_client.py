@@ -154,10 +154,13 @@ class _Protocol:
         wait: float | None,
         outputs: Iterable[str] | Mapping[str, Any] | None,
         idempotency_key: str | None,
+        time_limit: float | None = None,
     ) -> _Flow[_Submitted]:
         body: dict[str, Any] = {
             "inputs": {name: to_json_value(value, name) for name, value in inputs.items()}
         }
+        if time_limit is not None:
+            body["timeLimit"] = time_limit
         if outputs is not None:
             if isinstance(outputs, Mapping):
                 body["outputs"] = {name: dict(spec or {}) for name, spec in outputs.items()}
@@ -541,6 +544,7 @@ class Client(_ClientBase):
         wait: float | None = None,
         outputs: Iterable[str] | Mapping[str, Any] | None = None,
         idempotency_key: str | None = None,
+        time_limit: float | None = None,
         **inputs: Any,
     ) -> Job:
         """Start a job of ``process_id`` on ``inputs``.
@@ -557,6 +561,9 @@ class Client(_ClientBase):
             Only these outputs are wanted.
         idempotency_key : str, optional
             Retrying with the same key returns the first job instead of starting another.
+        time_limit : float, optional
+            Stop the job after this many seconds of running (never more than the service's
+            own limit); it then fails with :class:`TimeLimitExceeded`.
         **inputs
             The inputs of the process; numpy arrays and scalars are sent as JSON lists and
             numbers.
@@ -569,7 +576,8 @@ class Client(_ClientBase):
             Too many jobs queued; retry after ``retry_after`` seconds.
         """
         flow = self._protocol.execute(
-            process_id, inputs, wait=wait, outputs=outputs, idempotency_key=idempotency_key
+            process_id, inputs, wait=wait, outputs=outputs, idempotency_key=idempotency_key,
+            time_limit=time_limit,
         )
         return Job(self, self._run(flow))
 
@@ -659,11 +667,13 @@ class AsyncClient(_ClientBase):
         wait: float | None = None,
         outputs: Iterable[str] | Mapping[str, Any] | None = None,
         idempotency_key: str | None = None,
+        time_limit: float | None = None,
         **inputs: Any,
     ) -> AsyncJob:
         """Start a job of ``process_id`` on ``inputs`` (see :meth:`Client.execute`)."""
         flow = self._protocol.execute(
-            process_id, inputs, wait=wait, outputs=outputs, idempotency_key=idempotency_key
+            process_id, inputs, wait=wait, outputs=outputs, idempotency_key=idempotency_key,
+            time_limit=time_limit,
         )
         return AsyncJob(self, await self._run(flow))
 

@@ -8,7 +8,6 @@ missing, so a server drifting from the contract fails loudly rather than with a 
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
@@ -200,21 +199,19 @@ class Results(Mapping[str, Any]):
 def to_json_value(value: Any, name: str = "input") -> Any:
     """An input value as plain JSON: numpy arrays become lists, numpy scalars numbers.
 
-    Raises ValueError for NaN or infinity (JSON has no such numbers) and TypeError for a value
-    JSON cannot hold, naming the input.
+    The service validates: NaN and infinity are sent (as the ``NaN``/``Infinity`` tokens
+    Python's json writes, which the service reads) so that its :class:`InvalidInput` names the
+    input and row, as do arrays of strings. Raises TypeError, naming the input, only for a
+    value JSON cannot hold at all.
     """
     if isinstance(value, np.ndarray):
-        if value.dtype.kind not in "biuf":
+        if value.dtype.kind not in "biufUS":
             raise TypeError(
-                f"Expected `{name}` to be an array of numbers or booleans, got dtype {value.dtype}."
+                f"Expected `{name}` to be an array of numbers, got dtype {value.dtype}."
             )
-        if value.dtype.kind == "f" and not np.isfinite(value).all():
-            raise ValueError(f"Expected `{name}` to hold finite numbers, got NaN or infinity.")
         return value.tolist()
     if isinstance(value, np.generic):
         value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        raise ValueError(f"Expected `{name}` to be a finite number, got {value}.")
     if isinstance(value, Mapping):
         return {str(k): to_json_value(v, f"{name}.{k}") for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -230,5 +227,6 @@ def to_json_value(value: Any, name: str = "input") -> Any:
 
 
 def dumps(document: Any) -> bytes:
-    """Compact UTF-8 JSON of an already converted document."""
-    return json.dumps(document, separators=(",", ":"), allow_nan=False).encode()
+    """Compact UTF-8 JSON of an already converted document (NaN/Infinity as Python writes
+    them: the service answers with an error naming where they are)."""
+    return json.dumps(document, separators=(",", ":"), allow_nan=True).encode()

@@ -10,7 +10,7 @@ from __future__ import annotations
 from service.catalog import alignment, assignment  # noqa: F401  (register their entries)
 from service.catalog.registry import Output, Process, Registry, registry
 
-__all__ = ["Output", "Process", "Registry", "registry", "lookup"]
+__all__ = ["Output", "Process", "Registry", "registry", "lookup", "processes"]
 
 
 def lookup(process_id: str, *, test_processes: bool = False) -> Process | None:

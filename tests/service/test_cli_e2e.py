@@ -194,12 +194,10 @@ def test_invalid_input(server, files, tmp_path: Path) -> None:  # noqa: ANN001
     assert "\n  target: " in done.stderr  # the field, on a line of its own
 
 
-@pytest.mark.xfail(strict=True, reason="bug: the SDK refuses NaN and non-numeric arrays with a "
-                   "plain ValueError/TypeError before sending; the CLI catches only "
-                   "MorphserveError, so it dies with a traceback instead of `error:`")
 @pytest.mark.parametrize("bad", ["nan.json", "strings.npy"])
-def test_unsendable_input_is_an_error_not_a_traceback(server, files, tmp_path: Path,  # noqa: ANN001
-                                                      bad: str) -> None:
+def test_unsendable_input_is_an_error_not_a_traceback(
+    server, files, tmp_path: Path, bad: str  # noqa: ANN001
+) -> None:
     _, b = files
     path = tmp_path / bad
     if bad.endswith(".json"):  # json.load reads NaN; an .npy holding NaN fails the same way
@@ -209,7 +207,8 @@ def test_unsendable_input_is_an_error_not_a_traceback(server, files, tmp_path: P
     done = morphserve("execute", "alignment.rigid", "--input", f"source={path}",
                       "--input", f"target={b}", "--wait", url=server.url)
     assert "Traceback" not in done.stderr, done.stderr
-    assert done.returncode in (1, 2) and "error: " in done.stderr and "source" in done.stderr
+    assert done.returncode == 1 and done.stderr.startswith("error: Invalid input")
+    assert "\n  source: " in done.stderr
 
 
 def test_usage_errors_exit_2(server) -> None:  # noqa: ANN001

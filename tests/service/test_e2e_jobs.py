@@ -116,3 +116,21 @@ def test_metrics_count_jobs(http) -> None:
     text = http.get("/metrics").text
     assert 'morphserve_jobs{status="successful"}' in text
     assert "morphserve_workers 2" in text
+
+
+def test_poison_job_fails_with_a_reason_and_the_service_keeps_serving(http) -> None:
+    """A job that kills its worker every time ends failed (worker-lost) after the allowed
+    failures; the nanny replaces the workers and other jobs run."""
+    r = http.post("/processes/diagnostics.crash/execution", headers={"Prefer": "respond-async"},
+                  json={"inputs": {}})
+    assert r.status_code == 201
+    info = wait_for_status(http, r.json()["jobID"], timeout=90)
+    assert info["status"] == "failed"
+    assert "worker died" in info["message"]
+    problem = http.get(f"/jobs/{info['jobID']}/results").json()
+    assert problem["type"] == "/problems/worker-lost"
+    deadline = time.monotonic() + 30
+    while http.get("/readyz").json().get("workers") != 2 and time.monotonic() < deadline:
+        time.sleep(0.2)
+    job = _sleep(http, 0.1, 1)
+    assert wait_for_status(http, job, timeout=30)["status"] == "successful"
