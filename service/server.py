@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import socket
 from typing import Any
 
 import uvicorn
@@ -10,7 +11,23 @@ import uvicorn
 from service.app import create_app
 from service.settings import Settings
 
-__all__ = ["run"]
+__all__ = ["run", "bind"]
+
+
+def bind(host: str, port: int) -> socket.socket:
+    """The listening socket, bound before anything else starts: a port already in use fails
+    at once, and the embedded Dask cluster's own (random) ports can never take it."""
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+    except OSError as exc:
+        sock.close()
+        raise SystemExit(f"morphserve: cannot listen on {host}:{port}: {exc.strerror}") from None
+    sock.listen(2048)
+    sock.set_inheritable(True)
+    return sock
 
 
 def run(host: str = "127.0.0.1", port: int = 8000, **overrides: Any) -> None:
@@ -19,6 +36,9 @@ def run(host: str = "127.0.0.1", port: int = 8000, **overrides: Any) -> None:
     settings = Settings(**{k: v for k, v in overrides.items() if v is not None})
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(levelname)s %(name)s: "
                         "%(message)s")
+    sock = bind(host, port)
     # One uvicorn process per embedded cluster; the asyncio loop is the one Dask is tested on.
-    uvicorn.run(create_app(settings), host=host, port=port, loop="asyncio", lifespan="on",
-                log_level="info", access_log=False, timeout_graceful_shutdown=10)
+    config = uvicorn.Config(create_app(settings), host=host, port=port, loop="asyncio",
+                            lifespan="on", log_level="info", access_log=False,
+                            timeout_graceful_shutdown=10)
+    uvicorn.Server(config).run(sockets=[sock])
