@@ -43,11 +43,10 @@ def _wire_callbacks(engine: Engine, store: JobStore, notifier: Notifier) -> None
         elif outcome["status"] != "successful" and "failedUri" in sub:
             notifier.send(sub["failedUri"], status_info(current))
 
-    def on_start(job_id: str) -> None:
-        job = store.get(job_id)
-        uri = (job.request.get("subscriber") or {}).get("inProgressUri") if job else None
-        if job and uri:
-            notifier.send(uri, status_info(job))
+    def on_start(job: JobRecord) -> None:
+        uri = (job.request.get("subscriber") or {}).get("inProgressUri")
+        if uri:
+            notifier.send(uri, status_info(store.get(job.id) or job))
 
     engine.on_finish.append(on_finish)
     engine.on_start.append(on_start)

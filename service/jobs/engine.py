@@ -84,7 +84,8 @@ class Engine:
         self._closing = False
         self.on_finish: list[Callable[[JobRecord, dict[str, Any]], Any]] = []
         """Called with the job and its outcome when it ends (subscriber callbacks)."""
-        self.on_start: list[Callable[[str], Any]] = []
+        self.on_start: list[Callable[[JobRecord], Any]] = []
+        """Called with the job when it starts running."""
 
     # -- life cycle --------------------------------------------------------------------------
     async def start(self) -> None:
@@ -121,6 +122,11 @@ class Engine:
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
         return task
+
+    @property
+    def active(self) -> int:
+        """Jobs accepted or running here (the queue-length limit counts these)."""
+        return len(self._jobs)
 
     async def n_workers(self) -> int:
         if self.client is None:
@@ -196,10 +202,14 @@ class Engine:
     async def _run_fast(self, handle: _Handle, kwargs: dict[str, Any]) -> None:
         loop = asyncio.get_running_loop()
         job = handle.job
-        reporter = Reporter(
-            job.id, job.time_limit,
-            publish=lambda event: loop.call_soon_threadsafe(self._on_event, (0.0, event)),
-            cancelled=handle.cancel.is_set)
+
+        def publish(event: dict[str, Any]) -> None:
+            if event["kind"] != "started":  # the start is noted here, without a thread hop
+                loop.call_soon_threadsafe(self._on_event, (0.0, event))
+
+        self._on_event((0.0, {"job": job.id, "kind": "started"}))
+        reporter = Reporter(job.id, job.time_limit, publish=publish,
+                            cancelled=handle.cancel.is_set)
         outcome = await loop.run_in_executor(
             self._pool, lambda: run_job(job.id, job.process, kwargs, "", job.time_limit,
                                         test_processes=self.settings.test_processes,
@@ -272,7 +282,7 @@ class Engine:
             if handle.future is not None or self.on_start_wanted(handle.job):
                 self.store.write(self.store.mark_running, handle.job.id)
             for callback in self.on_start:
-                callback(handle.job.id)
+                callback(handle.job)
         else:
             if handle.future is None and not handle.marked_running:
                 handle.marked_running = True  # a fast-path job long enough to report progress

@@ -195,9 +195,11 @@ class JobStore:
             if inputs_file:
                 (self.data_dir / inputs_file).unlink(missing_ok=True)
             raise
-        rec = self.get(job_id)
-        assert rec is not None
-        return rec
+        return JobRecord(id=job_id, process=process, status="accepted", message="",
+                         progress=0, created=now, started=None, finished=None, updated=now,
+                         request=dict(request), problem=None, time_limit=time_limit,
+                         idempotency_key=idempotency_key, request_hash=request_hash,
+                         attempts=0, inputs_file=inputs_file)
 
     def _update(self, job_id: str, where: str = "", **values: Any) -> bool:
         values.setdefault("updated", time.time())

@@ -151,7 +151,7 @@ async def execute(processId: str, request: Request) -> JSONResponse:  # noqa: N8
             return await _answer_existing(st, earlier, digest, prefer, process)
 
     spec = _parse_execute(process, raw, st)
-    active = st.store.count_active()
+    active = st.engine.active
     if active >= st.settings.max_queue:
         raise ServiceError("queue-full", f"{active} jobs are waiting or running; the limit is "
                            f"{st.settings.max_queue}.", headers={"Retry-After": "5"})

@@ -20,3 +20,34 @@ def test_port_in_use_fails_at_once_with_a_clear_message() -> None:
     assert done.stderr.strip().splitlines()[-1] == (
         f"morphserve: cannot listen on 127.0.0.1:{port}: Address already in use")
     assert "Traceback" not in done.stderr
+
+
+def test_listening_socket_is_tcp_so_responses_are_not_delayed() -> None:
+    """asyncio turns Nagle off (TCP_NODELAY) only for sockets whose proto is TCP; a socket
+    made with proto 0 answered every request ~40 ms late (delayed ACK)."""
+    import asyncio
+
+    from service.server import bind
+
+    sock = bind("127.0.0.1", free_port())
+    try:
+        assert sock.proto == socket.IPPROTO_TCP
+
+        async def accepted_nodelay() -> int:
+            result: asyncio.Future[int] = asyncio.get_running_loop().create_future()
+
+            def on_connect(reader, writer) -> None:  # noqa: ANN001
+                s = writer.get_extra_info("socket")
+                result.set_result(s.getsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY))
+                writer.close()
+
+            server = await asyncio.start_server(on_connect, sock=sock)
+            _, writer = await asyncio.open_connection(*sock.getsockname())
+            value = await asyncio.wait_for(result, 5)
+            writer.close()
+            server.close()
+            return value
+
+        assert asyncio.run(accepted_nodelay()) == 1
+    finally:
+        sock.close()
