@@ -186,7 +186,7 @@ def _wait_for(prefer: dict[str, str | None], process: Process, mode: Any,
             raise _invalid("Prefer", f"Expected wait=N with N ≥ 0 seconds, got "
                            f"wait={prefer['wait']!r}.")
         wait = min(wait, st.settings.max_wait)
-        return wait, f"wait={prefer['wait']}"
+        return wait, f"wait={wait:g}"  # what was applied: a longer wait is cut to max_wait
     if "respond-async" in prefer or mode == "async":
         return 0.0, "respond-async"
     if "respond-sync" in prefer or mode == "sync":

@@ -155,7 +155,7 @@ def test_idempotency_key(http) -> None:
     h = {"Idempotency-Key": key, "Prefer": "respond-async"}
     a = http.post("/processes/alignment.rigid/execution", headers=h, json=body)
     b = http.post("/processes/alignment.rigid/execution", headers=h, json=body)
-    assert a.status_code == b.status_code == 201
+    assert (a.status_code, b.status_code) == (201, 201), (a.text, b.text)
     assert b.headers["location"] == a.headers["location"]
     first = a.json()["jobID"]
     # a retry that waits gets the first job's results
@@ -206,3 +206,10 @@ def test_callbacks(http) -> None:
         np.testing.assert_allclose(paths["/ok"]["rotation"], R_Z90, atol=1e-12)
     finally:
         hook.shutdown()
+
+
+def test_wait_beyond_the_limit_is_cut_and_says_so(http, server) -> None:
+    r = http.post("/processes/alignment.rigid/execution", headers={"Prefer": "wait=100000"},
+                  json={"inputs": {"source": SOURCE, "target": TARGET}})
+    assert r.status_code == 200
+    assert r.headers["preference-applied"] == "wait=600"  # the default max_wait
