@@ -72,6 +72,7 @@ CREATE INDEX IF NOT EXISTS jobs_process ON jobs(process);
 _COLUMNS = ("id", "process", "status", "message", "progress", "created", "started",
             "finished", "updated", "request", "problem", "time_limit", "idempotency_key",
             "request_hash", "attempts", "inputs_file")
+_SELECT = ", ".join(_COLUMNS)
 
 
 @dataclass(frozen=True)
@@ -273,18 +274,26 @@ class JobStore:
         result_path(self.data_dir, job_id).unlink(missing_ok=True)
 
     # -- reading -----------------------------------------------------------------------------
-    def get(self, job_id: str) -> JobRecord | None:
+    def _read(self, sql: str, args: Iterable[Any] = ()) -> list[tuple[Any, ...]]:
+        """All rows of one query on the reader connection, its cursor closed at once: a
+        cursor left open would pin the connection's WAL snapshot and hide later commits."""
         with self._rlock:
-            row = self._rdb.execute(f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE id = ?",
-                                   (job_id,)).fetchone()
-        return _record(row) if row else None
+            cur = self._rdb.execute(sql, tuple(args))
+            try:
+                return cur.fetchall()
+            finally:
+                cur.close()
+
+    def _jobs(self, where: str, args: Iterable[Any] = ()) -> list[JobRecord]:
+        return [_record(r) for r in self._read(f"SELECT {_SELECT} FROM jobs {where}", args)]
+
+    def get(self, job_id: str) -> JobRecord | None:
+        found = self._jobs("WHERE id = ?", (job_id,))
+        return found[0] if found else None
 
     def by_idempotency_key(self, key: str) -> JobRecord | None:
-        with self._rlock:
-            row = self._rdb.execute(
-                f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE idempotency_key = ?",
-                (key,)).fetchone()
-        return _record(row) if row else None
+        found = self._jobs("WHERE idempotency_key = ?", (key,))
+        return found[0] if found else None
 
     def list(self, *, statuses: Iterable[str] = (), processes: Iterable[str] = (),
              limit: int = 10, offset: int = 0) -> tuple[list[JobRecord], int]:
@@ -295,38 +304,26 @@ class JobStore:
                 where.append(f"{col} IN ({', '.join('?' * len(vals))})")
                 args += vals
         clause = f"WHERE {' AND '.join(where)}" if where else ""
-        with self._rlock:
-            total = self._rdb.execute(f"SELECT COUNT(*) FROM jobs {clause}", args).fetchone()[0]
-            rows = self._rdb.execute(
-                f"SELECT {', '.join(_COLUMNS)} FROM jobs {clause} ORDER BY seq DESC "
-                "LIMIT ? OFFSET ?", (*args, limit, offset)).fetchall()
-        return [_record(r) for r in rows], total
+        total = self._read(f"SELECT COUNT(*) FROM jobs {clause}", args)[0][0]
+        page = self._jobs(f"{clause} ORDER BY seq DESC LIMIT ? OFFSET ?", (*args, limit, offset))
+        return page, total
 
     def count_active(self) -> int:
-        with self._rlock:
-            return self._rdb.execute(
-                "SELECT COUNT(*) FROM jobs WHERE status IN ('accepted', 'running')").fetchone()[0]
+        return self._read("SELECT COUNT(*) FROM jobs WHERE status IN ('accepted', 'running')"
+                          )[0][0]
 
     def count_by_status(self) -> dict[str, int]:
-        with self._rlock:
-            rows = self._rdb.execute("SELECT status, COUNT(*) FROM jobs GROUP BY status")
-            return dict(rows.fetchall())
+        return dict(self._read("SELECT status, COUNT(*) FROM jobs GROUP BY status"))
 
     def unfinished(self) -> list[JobRecord]:
         """Jobs accepted or running, oldest first (what a restart must finish)."""
-        with self._rlock:
-            rows = self._rdb.execute(
-                f"SELECT {', '.join(_COLUMNS)} FROM jobs WHERE status IN "
-                "('accepted', 'running') ORDER BY seq").fetchall()
-        return [_record(r) for r in rows]
+        return self._jobs("WHERE status IN ('accepted', 'running') ORDER BY seq")
 
     def inputs(self, job: JobRecord) -> dict[str, Any]:
         """The job's validated inputs, as the algorithm's keyword arguments."""
         if job.inputs_file:
             return pickle.loads((self.data_dir / job.inputs_file).read_bytes())
-        with self._rlock:
-            (blob,) = self._rdb.execute("SELECT inputs FROM jobs WHERE id = ?",
-                                       (job.id,)).fetchone()
+        ((blob,),) = self._read("SELECT inputs FROM jobs WHERE id = ?", (job.id,))
         return pickle.loads(blob)
 
     def payload(self, job: JobRecord) -> dict[str, Any] | str:
@@ -341,10 +338,8 @@ class JobStore:
 
     def result(self, job_id: str) -> dict[str, Any]:
         """The outputs of a successful job."""
-        with self._rlock:
-            row = self._rdb.execute("SELECT outputs FROM results WHERE id = ?",
-                                   (job_id,)).fetchone()
-        if row is not None:
-            return pickle.loads(row[0])
+        rows = self._read("SELECT outputs FROM results WHERE id = ?", (job_id,))
+        if rows:
+            return pickle.loads(rows[0][0])
         return pickle.loads(result_path(self.data_dir, job_id).read_bytes())
 
