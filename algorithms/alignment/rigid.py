@@ -2,26 +2,16 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
-from algorithms.core.errors import DegenerateInputError
+from algorithms.alignment._pairs import one_per_dimension, prepare, rotation_fit
+from algorithms.core.linalg import RANK_RTOL as RANK_RTOL  # re-exported: documented below
+from algorithms.core.linalg import homogeneous
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import (
-    as_bool,
-    as_points,
-    as_weights,
-    check_min_points,
-    same_shape,
-)
+from algorithms.core.validation import as_bool
 
 __all__ = ["RigidResult", "rigid"]
-
-#: Singular values of the cross-covariance below this fraction of the largest count as zero.
-RANK_RTOL = 1e-10
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,6 +129,10 @@ def rigid(
     points are fine: the rotation is determined (rank ``d - 1 = 1``) unless reflections are
     allowed.
 
+    **No** ``symmetric`` **option.** The other alignment methods can also count the inverse
+    residuals :math:`R^\mathsf{T}(y_i - t) - x_i`; for a rigid motion they have the same
+    lengths as the forward ones, so the answer and ``rmse`` would not change.
+
     **Cost.** Two centrings, one ``d×d`` product accumulation over the ``n`` points, one
     ``d×d`` SVD, and one pass for the residual: ``O(n d²)`` time, no loop over points.
 
@@ -164,113 +158,18 @@ def rigid(
     >>> np.round(res.translation, 12) + 0.0
     array([3., 4.])
     """
-    src = as_points(source, name="source", min_dim=2)
-    dst = as_points(target, name="target")
-    same_shape(src, dst, names=("source", "target"))
-    n, d = src.shape
-    check_min_points(src, d, name="source", reason=f"at least one per dimension in {d}-D")
-    w = as_weights(weights, n, name="weights")
+    pairs = prepare(source, target, weights, min_dim=2, minimum=one_per_dimension)
     reflect_ok = as_bool(allow_reflection, name="allow_reflection")
 
-    if w is None:
-        ones = np.ones(n)  # means as BLAS products: several times faster than mean(axis=0)
-        x_mean = (ones @ src) / n
-        y_mean = (ones @ dst) / n
-        xc = src - x_mean
-        yc = dst - y_mean
-        cov = yc.T @ xc
-    else:
-        w = w / w.max()  # keep the sum finite even for huge weights
-        p = w / w.sum()
-        x_mean = p @ src
-        y_mean = p @ dst
-        xc = src - x_mean
-        yc = dst - y_mean
-        cov = (yc * p[:, None]).T @ xc
-
-    u, sigma, vt = np.linalg.svd(cov)
-    need = d if reflect_ok else d - 1
-    tol = RANK_RTOL * sigma[0]
-    rank = int(np.count_nonzero(sigma > tol)) if sigma[0] > 0 else 0
-    if rank < need:
-        raise _degenerate(xc, yc, w, rank, need, d, reflect_ok)
-
-    rotation = u @ vt
-    det_negative = _det(rotation) < 0
-    if det_negative and not reflect_ok:
-        u[:, -1] = -u[:, -1]
-        rotation = u @ vt
-    translation = y_mean - rotation @ x_mean
-
-    resid = xc @ rotation.T - yc  # = R x + t - y, computed from centred data for accuracy
-    if w is None:
-        rmse = math.sqrt(float(np.vdot(resid, resid)) / n)
-    else:
-        rmse = math.sqrt(float(p @ np.einsum("ij,ij->i", resid, resid)))
-
-    transform = np.eye(d + 1)
-    transform[:d, :d] = rotation
-    transform[:d, d] = translation
+    fit = rotation_fit(pairs, reflect_ok=reflect_ok)
+    rotation = fit.rotation
+    translation = pairs.y_mean - rotation @ pairs.x_mean
     return RigidResult(
-        transform=transform,
+        transform=homogeneous(rotation, translation),
         linear=rotation.copy(),
         rotation=rotation,
         translation=translation,
         scale=1.0,
-        rmse=rmse,
-        reflection=det_negative and reflect_ok,
-    )
-
-
-def _det(m: FloatArray) -> float:
-    """Determinant; closed form for d <= 3 (np.linalg.det costs more than the SVD there)."""
-    d = m.shape[0]
-    if d == 2:
-        (a, b), (c, e) = m.tolist()
-        return a * e - b * c
-    if d == 3:
-        (a, b, c), (e, f, g), (h, i, j) = m.tolist()
-        return a * (f * j - g * i) - b * (e * j - g * h) + c * (e * i - f * h)
-    return float(np.linalg.det(m))
-
-
-def _rank(a: FloatArray, rtol: float) -> int:
-    s = np.linalg.svd(a, compute_uv=False)
-    return 0 if s.size == 0 or s[0] <= 0 else int(np.count_nonzero(s > rtol * s[0]))
-
-
-def _degenerate(
-    xc: FloatArray,
-    yc: FloatArray,
-    w: FloatArray | None,
-    rank: int,
-    need: int,
-    d: int,
-    reflect_ok: bool,
-) -> DegenerateInputError:
-    """Build the error, naming the point set responsible when one is (error path only)."""
-    # The singular values of C are roughly products of the two sets' own singular values,
-    # so a set counts as flat at the square root of the tolerance used for C.
-    sw = np.ones(xc.shape[0]) if w is None else np.sqrt(w)
-    rank_x = _rank(xc * sw[:, None], math.sqrt(RANK_RTOL))
-    rank_y = _rank(yc * sw[:, None], math.sqrt(RANK_RTOL))
-    shapes = {0: "coincident", 1: "collinear", 2: "coplanar"}
-    weighted = " (counting only points with positive weight)" if w is not None else ""
-    why = (
-        "a reflection across the flat they span fits equally well"
-        if reflect_ok and rank == d - 1
-        else "the rotation is undetermined"
-    )
-    for name, r in (("source", rank_x), ("target", rank_y)):
-        if r < need:
-            what = shapes.get(r, f"confined to a {r}-dimensional flat")
-            return DegenerateInputError(
-                f"Expected `{name}` to span at least {need} dimensions after centring, got "
-                f"{r}: the points are {what}{weighted} and {why}.",
-                field=name,
-            )
-    return DegenerateInputError(
-        f"Expected the weighted cross-covariance of `source` and `target` to have rank at "
-        f"least {need}, got {rank}: {why}.",
-        field=None,
+        rmse=pairs.linear_rmse(rotation),  # from centred data, for accuracy
+        reflection=bool(fit.reflection),
     )

@@ -1,4 +1,5 @@
-"""Building blocks shared by every family: errors, validation, progress, types."""
+"""Building blocks shared by every family: errors, validation, progress, types, small dense
+linear algebra."""
 
 from algorithms.core.errors import (
     Cancelled,
@@ -7,6 +8,7 @@ from algorithms.core.errors import (
     GeometryError,
     InvalidInputError,
 )
+from algorithms.core.linalg import Procrustes, homogeneous, numerical_rank, polar, procrustes
 from algorithms.core.progress import Progress, as_progress, no_progress
 from algorithms.core.validation import (
     as_bool,
@@ -27,6 +29,11 @@ __all__ = [
     "DegenerateInputError",
     "GeometryError",
     "InvalidInputError",
+    "Procrustes",
+    "homogeneous",
+    "numerical_rank",
+    "polar",
+    "procrustes",
     "Progress",
     "as_progress",
     "no_progress",
