@@ -75,3 +75,12 @@ def test_cli_tour(server, tmp_path: Path) -> None:
     out = _run_sh(cli, server.url, tmp_path)
     assert "alignment.rigid" in out and "assignment.nearest" in out
     assert '"rotation"' in out and '"rmse"' in out
+
+
+def test_every_process_is_in_the_methods_table() -> None:
+    """The README's table of methods lists exactly the catalog (diagnostics aside)."""
+    from service.catalog import registry
+
+    table = README.read_text().split("## The methods", 1)[1].split("\n## ", 1)[0]
+    listed = set(re.findall(r"^\| `([a-z_]+\.[a-z_]+)` \|", table, flags=re.M))
+    assert listed == set(registry), (sorted(set(registry) - listed), sorted(listed - set(registry)))
