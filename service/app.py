@@ -14,6 +14,7 @@ from typing import Any
 from fastapi import FastAPI
 from fastapi.routing import APIRoute
 
+from service.auth import OPEN_PATHS, AuthMiddleware, KeyRing
 from service.callbacks import Notifier
 from service.errors import install_handlers
 from service.jobs.engine import Engine
@@ -54,6 +55,8 @@ def _wire_callbacks(engine: Engine, store: JobStore, notifier: Notifier) -> None
 
 def create_app(settings: Settings | None = None) -> FastAPI:
     settings = settings or get_settings()
+    # Read now, so that a broken keys file stops the service before it listens.
+    keyring = KeyRing(settings.api_keys_file) if settings.api_keys_file else None
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -62,10 +65,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         engine = Engine(settings, store)
         notifier = Notifier()
         _wire_callbacks(engine, store, notifier)
-        app.state.morphserve = State(settings=settings, store=store, engine=engine)
+        app.state.morphserve = State(settings=settings, store=store, engine=engine,
+                                     keyring=keyring)
         await engine.start()
-        log.info("morphserve ready: data dir %s, %s", settings.data_dir.resolve(),
-                 settings.scheduler or f"embedded cluster of {settings.workers} workers")
+        log.info("morphserve ready: data dir %s, %s, %s", settings.data_dir.resolve(),
+                 settings.scheduler or f"embedded cluster of {settings.workers} workers",
+                 f"{len(keyring)} API keys" if keyring else "open (no API keys)")
         try:
             yield
         finally:
@@ -84,6 +89,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         generate_unique_id_function=_operation_id,
     )
     install_handlers(app)
+    app.add_middleware(AuthMiddleware, keyring=keyring)
     app.include_router(landing.router)
     app.include_router(processes.router)
     app.include_router(jobs.router)
@@ -101,12 +107,20 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
                           description=app.description, routes=app.routes)
         problem = {"application/problem+json": {"schema": {
             "$ref": "#/components/schemas/Problem"}}}
-        for path in doc["paths"].values():
+        for route, path in doc["paths"].items():
             for op in path.values():
+                if route not in OPEN_PATHS:  # see service.auth: a key when keys are on
+                    op["responses"].setdefault("401", {
+                        "description": "No valid API key (when the service has keys)."})
+                    op["security"] = [{}, {"bearerAuth": []}]
                 for code, resp in op.get("responses", {}).items():
                     if code[0] in "45":
                         resp["content"] = problem
-        schemas = doc.setdefault("components", {}).setdefault("schemas", {})
+        doc.setdefault("components", {})["securitySchemes"] = {"bearerAuth": {
+            "type": "http", "scheme": "bearer",
+            "description": "An API key from the service's keys file; needed when the service "
+            "runs with MORPHSERVE_API_KEYS_FILE, ignored otherwise."}}
+        schemas = doc["components"].setdefault("schemas", {})
         for unused in ("HTTPValidationError", "ValidationError"):
             schemas.pop(unused, None)
         from service.routes.docs import FieldError, Problem

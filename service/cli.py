@@ -10,10 +10,14 @@
         --param allow_reflection=false --wait --output result.json
     morphserve jobs [--status running] [--process alignment.rigid] [--limit 20]
     morphserve status JOB | results JOB [--output FILE] | dismiss JOB
+    morphserve keys add NAME | keys revoke NAME | keys list   [--file F]
 
 The client commands go through the SDK (:mod:`morphserve`) to ``--url`` (default
 ``$MORPHSERVE_URL``, else http://127.0.0.1:8000). Exit status: 0 done, 1 the service or the
 network said no (``error: <title>: <detail>`` on stderr), 2 wrong usage, 130 interrupted.
+They send ``$MORPHSERVE_API_KEY`` as the bearer key when it is set. ``keys`` edits the API
+keys file (``--file``, default ``$MORPHSERVE_API_KEYS_FILE``): ``add`` prints the new key
+once and stores only its hash.
 """
 
 from __future__ import annotations
@@ -209,6 +213,59 @@ def _serve(args: argparse.Namespace) -> int:
         workers=args.workers,
     )
     return 0
+
+
+def _keys(args: argparse.Namespace) -> int:
+    from service.auth import KeyFileError, key_line, new_key, parse_keys
+
+    if args.file is None:
+        raise UsageError("name the keys file with --file or MORPHSERVE_API_KEYS_FILE")
+    if args.action != "list" and not args.name:
+        raise UsageError(f"keys {args.action} needs the key's NAME")
+    path: Path = args.file
+    try:
+        text = path.read_text(encoding="utf-8") if path.exists() else ""
+        names = set(parse_keys(text, str(path)).values())
+    except (OSError, KeyFileError) as error:
+        raise MorphserveError(str(error)) from None
+    if args.action == "list":
+        for name in sorted(names):
+            print(name)
+        return 0
+    if args.action == "add":
+        if args.name in names:
+            raise MorphserveError(f"{path} already has a key named {args.name!r}; revoke it "
+                                  "first or choose another name")
+        key = new_key()
+        try:
+            line = key_line(args.name, key)
+        except KeyFileError as error:
+            raise UsageError(str(error)) from None
+        sep = "" if not text or text.endswith("\n") else "\n"
+        _write_private(path, text + sep + line + "\n")
+        print(key)
+        print(f"key {args.name!r} added to {path}; it is shown only this once", file=sys.stderr)
+        return 0
+    if args.name not in names:  # revoke
+        raise MorphserveError(f"{path} has no key named {args.name!r}")
+    kept = [ln for ln in text.splitlines()
+            if ln.split("#", 1)[0].split()[:1] != [args.name]]
+    _write_private(path, "\n".join(kept) + "\n")
+    print(f"key {args.name!r} revoked", file=sys.stderr)
+    return 0
+
+
+def _write_private(path: Path, text: str) -> None:
+    """Replace ``path`` atomically with ``text``, readable by its owner only."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError as error:
+        raise MorphserveError(f"cannot write {path}: {error.strerror or error}") from None
 
 
 def _cpu_count() -> int:
@@ -454,6 +511,16 @@ def build_parser() -> argparse.ArgumentParser:
     jobs.add_argument("--process", metavar="ID")
     jobs.add_argument(
         "--limit", type=_positive_int, metavar="N", help="at most N jobs (default: 1000)"
+    )
+
+    keys = command("keys", _keys, "Add, revoke or list API keys (the keys file holds hashes).")
+    keys.add_argument("action", choices=("add", "revoke", "list"))
+    keys.add_argument("name", nargs="?", metavar="NAME", help="the key's owner (add, revoke)")
+    keys.add_argument(
+        "--file",
+        type=Path,
+        default=os.environ.get("MORPHSERVE_API_KEYS_FILE") or None,
+        help="the keys file (default: $MORPHSERVE_API_KEYS_FILE)",
     )
 
     for name, run, text in [

@@ -38,6 +38,10 @@ def run(host: str = "127.0.0.1", port: int = 8000, **overrides: Any) -> None:
     settings = Settings(**{k: v for k, v in overrides.items() if v is not None})
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(levelname)s %(name)s: "
                         "%(message)s")
+    if settings.api_keys_file is None and host not in ("127.0.0.1", "localhost", "::1"):
+        logging.getLogger("morphserve").warning(
+            "listening on %s without API keys: anyone who reaches this address can run and "
+            "read every job; set MORPHSERVE_API_KEYS_FILE (see `morphserve keys add`)", host)
     sock = bind(host, port)
     # One uvicorn process per embedded cluster; the asyncio loop is the one Dask is tested on.
     config = uvicorn.Config(create_app(settings), host=host, port=port, loop="asyncio",

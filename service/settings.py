@@ -42,6 +42,16 @@ class Settings(BaseSettings):
     max_queue: int = Field(
         10_000, ge=1, description="Most jobs accepted or running at once (429 above)."
     )
+    max_queue_per_key: int = Field(
+        1_000, ge=1, description="Most jobs one API key may have accepted or running at once "
+        "(429 above); applies when API keys are on."
+    )
+    api_keys_file: Path | None = Field(
+        None,
+        description="File of API keys, stored hashed (`morphserve keys add NAME` writes it). "
+        "Set: every route but /healthz and /readyz needs `Authorization: Bearer KEY`, and a "
+        "job is visible to its own key only. Unset: open (bind to 127.0.0.1).",
+    )
     max_wait: float = Field(
         600.0, ge=0, description="Largest honoured `Prefer: wait=N`, in seconds."
     )

@@ -59,7 +59,8 @@ CREATE TABLE IF NOT EXISTS jobs (
     time_limit      REAL,
     idempotency_key TEXT UNIQUE,
     request_hash    TEXT,
-    attempts        INTEGER NOT NULL DEFAULT 0
+    attempts        INTEGER NOT NULL DEFAULT 0,
+    owner           TEXT NOT NULL DEFAULT ''
 );
 CREATE TABLE IF NOT EXISTS results (
     id              TEXT PRIMARY KEY REFERENCES jobs(id) ON DELETE CASCADE,
@@ -69,9 +70,15 @@ CREATE INDEX IF NOT EXISTS jobs_status ON jobs(status);
 CREATE INDEX IF NOT EXISTS jobs_process ON jobs(process);
 """
 
+#: Run after the schema: indexes on columns that stores made by earlier versions lack until
+#: ``_migrate`` adds them.
+_INDEXES = """
+CREATE INDEX IF NOT EXISTS jobs_owner ON jobs(owner, status);
+"""
+
 _COLUMNS = ("id", "process", "status", "message", "progress", "created", "started",
             "finished", "updated", "request", "problem", "time_limit", "idempotency_key",
-            "request_hash", "attempts", "inputs_file")
+            "request_hash", "attempts", "inputs_file", "owner")
 _SELECT = ", ".join(_COLUMNS)
 
 
@@ -96,14 +103,27 @@ class JobRecord:
     request_hash: str | None
     attempts: int
     inputs_file: str | None
+    owner: str = ""
+    """The API key's name that created the job; "" when the service runs without keys."""
 
     @property
     def active(self) -> bool:
         return self.status in ACTIVE
 
 
+def _scoped(owner: str, key: str | None) -> str | None:
+    """The stored form of an Idempotency-Key: prefixed by its owner, so that one key's
+    clients can neither collide with nor find another's jobs through it."""
+    if key is None or not owner:
+        return key
+    return f"{owner}\x1f{key}"
+
+
 def _record(row: tuple[Any, ...]) -> JobRecord:
     d = dict(zip(_COLUMNS, row, strict=True))
+    key, owner = d["idempotency_key"], d["owner"]
+    if key is not None and owner and key.startswith(owner + "\x1f"):
+        d["idempotency_key"] = key[len(owner) + 1:]
     d["request"] = json.loads(d["request"])
     d["problem"] = json.loads(d["problem"]) if d["problem"] else None
     return JobRecord(**d)
@@ -150,10 +170,18 @@ class JobStore:
         self._db.execute(f"PRAGMA synchronous={'FULL' if fsync else 'NORMAL'}")
         self._db.execute("PRAGMA busy_timeout=5000")
         self._db.executescript(_SCHEMA)
+        self._migrate()
+        self._db.executescript(_INDEXES)
         self._rlock = threading.Lock()
         self._rdb = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
         self._rdb.execute("PRAGMA busy_timeout=5000")
         self._writer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="morphserve-store")
+
+    def _migrate(self) -> None:
+        """Bring a store written by an earlier version up to the current schema."""
+        columns = {row[1] for row in self._db.execute("PRAGMA table_info(jobs)")}
+        if "owner" not in columns:
+            self._db.execute("ALTER TABLE jobs ADD COLUMN owner TEXT NOT NULL DEFAULT ''")
 
     def close(self) -> None:
         self._writer.shutdown(wait=True)
@@ -174,8 +202,10 @@ class JobStore:
     # -- writing -----------------------------------------------------------------------------
     def create(self, *, process: str, inputs: Mapping[str, Any], request: Mapping[str, Any],
                time_limit: float | None, idempotency_key: str | None = None,
-               request_hash: str | None = None) -> JobRecord:
-        """Record a new accepted job with its inputs; durable when this returns."""
+               request_hash: str | None = None, owner: str = "") -> JobRecord:
+        """Record a new accepted job with its inputs; durable when this returns.
+
+        ``idempotency_key`` is unique per ``owner``: two keys' clients may use the same."""
         job_id = str(uuid.uuid4())
         blob = pickle.dumps(dict(inputs), protocol=5)
         inputs_file = None
@@ -188,10 +218,10 @@ class JobStore:
             with self._lock:
                 self._db.execute(
                     "INSERT INTO jobs (id, process, status, created, updated, request, inputs, "
-                    "inputs_file, time_limit, idempotency_key, request_hash) "
-                    "VALUES (?, ?, 'accepted', ?, ?, ?, ?, ?, ?, ?, ?)",
+                    "inputs_file, time_limit, idempotency_key, request_hash, owner) "
+                    "VALUES (?, ?, 'accepted', ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                     (job_id, process, now, now, json.dumps(dict(request)), blob, inputs_file,
-                     time_limit, idempotency_key, request_hash))
+                     time_limit, _scoped(owner, idempotency_key), request_hash, owner))
         except BaseException:  # e.g. the idempotency key raced in: leave no orphan file
             if inputs_file:
                 (self.data_dir / inputs_file).unlink(missing_ok=True)
@@ -200,7 +230,7 @@ class JobStore:
                          progress=0, created=now, started=None, finished=None, updated=now,
                          request=dict(request), problem=None, time_limit=time_limit,
                          idempotency_key=idempotency_key, request_hash=request_hash,
-                         attempts=0, inputs_file=inputs_file)
+                         attempts=0, inputs_file=inputs_file, owner=owner)
 
     def _update(self, job_id: str, where: str = "", **values: Any) -> bool:
         values.setdefault("updated", time.time())
@@ -291,14 +321,19 @@ class JobStore:
         found = self._jobs("WHERE id = ?", (job_id,))
         return found[0] if found else None
 
-    def by_idempotency_key(self, key: str) -> JobRecord | None:
-        found = self._jobs("WHERE idempotency_key = ?", (key,))
+    def by_idempotency_key(self, key: str, owner: str = "") -> JobRecord | None:
+        found = self._jobs("WHERE idempotency_key = ?", (_scoped(owner, key),))
         return found[0] if found else None
 
     def list(self, *, statuses: Iterable[str] = (), processes: Iterable[str] = (),
-             limit: int = 10, offset: int = 0) -> tuple[list[JobRecord], int]:
-        """A page of jobs, newest first, and the number of jobs matching the filter."""
+             limit: int = 10, offset: int = 0, owner: str | None = None
+             ) -> tuple[list[JobRecord], int]:
+        """A page of jobs, newest first, and the number of jobs matching the filter
+        (``owner`` None: every owner's)."""
         where, args = [], []
+        if owner is not None:
+            where.append("owner = ?")
+            args.append(owner)
         for col, vals in (("status", list(statuses)), ("process", list(processes))):
             if vals:
                 where.append(f"{col} IN ({', '.join('?' * len(vals))})")
@@ -308,9 +343,13 @@ class JobStore:
         page = self._jobs(f"{clause} ORDER BY seq DESC LIMIT ? OFFSET ?", (*args, limit, offset))
         return page, total
 
-    def count_active(self) -> int:
-        return self._read("SELECT COUNT(*) FROM jobs WHERE status IN ('accepted', 'running')"
-                          )[0][0]
+    def count_active(self, owner: str | None = None) -> int:
+        """Jobs accepted or running, of one ``owner`` or (None) of all."""
+        if owner is None:
+            return self._read("SELECT COUNT(*) FROM jobs WHERE status IN ('accepted', "
+                              "'running')")[0][0]
+        return self._read("SELECT COUNT(*) FROM jobs WHERE owner = ? AND status IN "
+                          "('accepted', 'running')", (owner,))[0][0]
 
     def count_by_status(self) -> dict[str, int]:
         return dict(self._read("SELECT status, COUNT(*) FROM jobs GROUP BY status"))

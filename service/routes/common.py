@@ -8,6 +8,7 @@ from typing import Any
 from fastapi import Request
 from service.jsonio import JSONResponse
 
+from service.auth import KeyRing, owner_of
 from service.catalog import Process, lookup
 from service.errors import ServiceError, problem_response
 from service.jobs.engine import Engine
@@ -15,7 +16,7 @@ from service.jobs.store import JobRecord, JobStore
 from service.representation import results_document, status_info
 from service.settings import Settings
 
-__all__ = ["State", "state", "get_process", "read_body", "parse_prefer", "job_response",
+__all__ = ["State", "state", "owner", "get_process", "read_body", "parse_prefer", "job_response",
            "get_job"]
 
 
@@ -24,10 +25,16 @@ class State:
     settings: Settings
     store: JobStore
     engine: Engine
+    keyring: KeyRing | None = None
 
 
 def state(request: Request) -> State:
     return request.app.state.morphserve
+
+
+def owner(st: State, request: Request) -> str | None:
+    """Whose jobs this request may see: its key's owner, or None (all) on an open service."""
+    return owner_of(request) if st.keyring is not None else None
 
 
 def get_process(st: State, process_id: str) -> Process:
@@ -38,9 +45,12 @@ def get_process(st: State, process_id: str) -> Process:
     return process
 
 
-def get_job(st: State, job_id: str) -> JobRecord:
+def get_job(st: State, job_id: str, request: Request) -> JobRecord:
+    """The job, if this request's key owns it: another key's job is as absent as a missing
+    one (404), so that ids cannot be probed."""
     job = st.store.get(job_id)
-    if job is None:
+    who = owner(st, request)
+    if job is None or (who is not None and job.owner != who):
         raise ServiceError("no-such-job", f"No job {job_id!r}.")
     return job
 

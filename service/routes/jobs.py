@@ -11,7 +11,7 @@ from urllib.parse import urlencode
 from service.errors import ServiceError
 from service.representation import results_document, status_info
 from service.routes import docs
-from service.routes.common import failure_response, get_job, state
+from service.routes.common import failure_response, get_job, owner, state
 
 router = APIRouter(tags=["jobs"])
 
@@ -31,7 +31,7 @@ async def list_jobs(
 ) -> JSONResponse:
     st = state(request)
     jobs, total = st.store.list(statuses=status or (), processes=processID or (), limit=limit,
-                                offset=offset)
+                                offset=offset, owner=owner(st, request))
 
     def page(off: int) -> str:
         q = [("limit", limit), ("offset", off)]
@@ -51,7 +51,7 @@ async def list_jobs(
 @router.get("/jobs/{jobId}", operation_id="getStatus", summary="A job's status",
             responses=docs.responses(docs.StatusInfo, 404))
 async def get_status(jobId: str, request: Request) -> JSONResponse:  # noqa: N803
-    return JSONResponse(status_info(get_job(state(request), jobId)))
+    return JSONResponse(status_info(get_job(state(request), jobId, request)))
 
 
 def _accepts_json(accept: str) -> bool:
@@ -72,7 +72,7 @@ async def get_results(
     f: Annotated[Literal["json"] | None, Query(description="Output format.")] = None,
 ) -> JSONResponse:
     st = state(request)
-    job = get_job(st, jobId)
+    job = get_job(st, jobId, request)
     if f is None and not _accepts_json(request.headers.get("accept", "*/*")):
         raise ServiceError("not-acceptable", "The results are available as application/json "
                            f"only; the request accepts {request.headers.get('accept')!r}.")
@@ -89,11 +89,11 @@ async def get_results(
                responses=docs.responses(docs.StatusInfo, 404))
 async def dismiss(jobId: str, request: Request) -> JSONResponse:  # noqa: N803
     st = state(request)
-    job = get_job(st, jobId)
+    job = get_job(st, jobId, request)
     if job.active:
         await st.store.write(st.store.dismiss, job.id)
         await st.engine.dismiss(job.id)
-        job = get_job(st, jobId)
+        job = get_job(st, jobId, request)
         if job.status != "dismissed":  # it ended between the two reads
             await st.store.write(st.store.delete, job.id)
     else:

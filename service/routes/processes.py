@@ -8,12 +8,13 @@ import sqlite3
 from typing import Any
 
 from fastapi import APIRouter, Request
-from service.jsonio import JSONResponse
 from pydantic import ValidationError
 
 from service import jsonio
+from service.auth import owner_of
 from service.catalog import Process, processes
 from service.errors import ServiceError
+from service.jsonio import JSONResponse
 from service.problems import pydantic_errors
 from service.representation import process_description, process_summary
 from service.routes import docs
@@ -145,8 +146,9 @@ async def execute(processId: str, request: Request) -> JSONResponse:  # noqa: N8
     digest = hashlib.sha256(processId.encode() + b"\0" + raw).hexdigest() if key else None
     prefer = parse_prefer(request.headers.getlist("prefer"))
 
+    who = owner_of(request)
     if key:
-        earlier = st.store.by_idempotency_key(key)
+        earlier = st.store.by_idempotency_key(key, who)
         if earlier is not None:
             return await _answer_existing(st, earlier, digest, prefer, process)
 
@@ -155,10 +157,16 @@ async def execute(processId: str, request: Request) -> JSONResponse:  # noqa: N8
     if active >= st.settings.max_queue:
         raise ServiceError("queue-full", f"{active} jobs are waiting or running; the limit is "
                            f"{st.settings.max_queue}.", headers={"Retry-After": "5"})
+    if st.keyring is not None:
+        mine = st.store.count_active(who)
+        if mine >= st.settings.max_queue_per_key:
+            raise ServiceError("queue-full", f"This API key has {mine} jobs waiting or "
+                               f"running; the limit per key is "
+                               f"{st.settings.max_queue_per_key}.", headers={"Retry-After": "5"})
     try:
-        job = await _create(st, process, spec, key, digest)
+        job = await _create(st, process, spec, key, digest, who)
     except sqlite3.IntegrityError:  # the same key raced in from another request
-        earlier = st.store.by_idempotency_key(key or "")
+        earlier = st.store.by_idempotency_key(key or "", who)
         assert earlier is not None
         return await _answer_existing(st, earlier, digest, prefer, process)
     fast = process.fast_path and spec["nbytes"] <= st.settings.fast_path_bytes
@@ -168,9 +176,10 @@ async def execute(processId: str, request: Request) -> JSONResponse:  # noqa: N8
 
 
 async def _create(st: State, process: Process, spec: dict[str, Any], key: str | None,
-                  digest: str | None):  # noqa: ANN202
+                  digest: str | None, who: str):  # noqa: ANN202
     args = dict(process=process.id, inputs=spec["kwargs"], request=spec["request"],
-                time_limit=spec["time_limit"], idempotency_key=key, request_hash=digest)
+                time_limit=spec["time_limit"], idempotency_key=key, request_hash=digest,
+                owner=who)
     return await st.store.write(st.store.create, **args)
 
 

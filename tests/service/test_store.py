@@ -462,3 +462,56 @@ def test_failed_create_leaves_no_inputs_file(tmp_path: Path) -> None:
         assert sorted(p.name for p in (tmp_path / "inputs").iterdir()) == [f"{first.id}.pkl"]
     finally:
         store.close()
+
+
+# -- owners (API keys) -----------------------------------------------------------------------
+
+
+def test_jobs_are_listed_and_counted_per_owner(store: JobStore) -> None:
+    a = store.create(process="p", inputs={}, request={}, time_limit=None, owner="alice")
+    b = store.create(process="p", inputs={}, request={}, time_limit=None, owner="bob")
+    assert store.get(a.id).owner == "alice" and store.get(b.id).owner == "bob"
+    assert [j.id for j in store.list(owner="alice")[0]] == [a.id]
+    assert store.list(owner="carol") == ([], 0)
+    assert store.list()[1] == 2  # None: everyone's
+    assert store.count_active("alice") == 1 and store.count_active() == 2
+    store.finish(a.id, "successful", "done", outputs={})
+    assert store.count_active("alice") == 0 and store.count_active("bob") == 1
+
+
+def test_idempotency_keys_are_scoped_by_owner(store: JobStore) -> None:
+    a = store.create(process="p", inputs={}, request={}, time_limit=None,
+                     idempotency_key="k", owner="alice")
+    b = store.create(process="p", inputs={}, request={}, time_limit=None,
+                     idempotency_key="k", owner="bob")  # no IntegrityError: another owner
+    assert store.by_idempotency_key("k", "alice").id == a.id
+    assert store.by_idempotency_key("k", "bob").id == b.id
+    assert store.by_idempotency_key("k", "carol") is None
+    assert store.by_idempotency_key("k") is None  # the open service's "" owner
+    assert store.get(a.id).idempotency_key == "k"  # reported as the client sent it
+    with pytest.raises(sqlite3.IntegrityError):
+        store.create(process="p", inputs={}, request={}, time_limit=None,
+                     idempotency_key="k", owner="alice")
+
+
+def test_a_store_from_before_owners_is_migrated(tmp_path: Path) -> None:
+    db = sqlite3.connect(tmp_path / "jobs.sqlite3")
+    db.executescript("""
+        CREATE TABLE jobs (seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE,
+            process TEXT NOT NULL, status TEXT NOT NULL, message TEXT NOT NULL DEFAULT '',
+            progress INTEGER NOT NULL DEFAULT 0, created REAL NOT NULL, started REAL,
+            finished REAL, updated REAL NOT NULL, request TEXT NOT NULL DEFAULT '{}',
+            inputs BLOB, inputs_file TEXT, problem TEXT, time_limit REAL,
+            idempotency_key TEXT UNIQUE, request_hash TEXT,
+            attempts INTEGER NOT NULL DEFAULT 0);
+        INSERT INTO jobs (id, process, status, created, updated, inputs)
+            VALUES ('old', 'p', 'accepted', 1, 1, NULL);
+    """)
+    db.close()
+    s = JobStore(tmp_path, fsync=False)
+    try:
+        assert s.get("old").owner == "" and s.unfinished()[0].id == "old"
+        new = s.create(process="p", inputs={}, request={}, time_limit=None, owner="alice")
+        assert s.get(new.id).owner == "alice"
+    finally:
+        s.close()
