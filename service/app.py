@@ -15,6 +15,7 @@ from fastapi import FastAPI
 from fastapi.routing import APIRoute
 
 from service.auth import OPEN_PATHS, AuthMiddleware, KeyRing
+from service import metrics
 from service.callbacks import Notifier
 from service.errors import install_handlers
 from service.jobs.engine import Engine
@@ -67,6 +68,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         _wire_callbacks(engine, store, notifier)
         app.state.morphserve = State(settings=settings, store=store, engine=engine,
                                      keyring=keyring)
+        metrics.wire(engine, app.state.morphserve.metrics)
         await engine.start()
         log.info("morphserve ready: data dir %s, %s, %s", settings.data_dir.resolve(),
                  settings.scheduler or f"embedded cluster of {settings.workers} workers",

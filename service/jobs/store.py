@@ -354,6 +354,11 @@ class JobStore:
     def count_by_status(self) -> dict[str, int]:
         return dict(self._read("SELECT status, COUNT(*) FROM jobs GROUP BY status"))
 
+    def count_by_process(self) -> dict[tuple[str, str], int]:
+        """``{(process, status): jobs}`` over the whole store."""
+        return {(p, s): n for p, s, n in self._read(
+            "SELECT process, status, COUNT(*) FROM jobs GROUP BY process, status")}
+
     def unfinished(self) -> list[JobRecord]:
         """Jobs accepted or running, oldest first (what a restart must finish)."""
         return self._jobs("WHERE status IN ('accepted', 'running') ORDER BY seq")

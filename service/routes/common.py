@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from fastapi import Request
@@ -13,6 +13,7 @@ from service.catalog import Process, lookup
 from service.errors import ServiceError, problem_response
 from service.jobs.engine import Engine
 from service.jobs.store import JobRecord, JobStore
+from service.metrics import Metrics
 from service.representation import results_document, status_info
 from service.settings import Settings
 
@@ -26,6 +27,7 @@ class State:
     store: JobStore
     engine: Engine
     keyring: KeyRing | None = None
+    metrics: Metrics = field(default_factory=Metrics)
 
 
 def state(request: Request) -> State:

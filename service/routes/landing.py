@@ -5,10 +5,10 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 from fastapi.responses import PlainTextResponse
 
-from service.jsonio import JSONResponse
-
 from service.catalog import processes
 from service.errors import ServiceError
+from service.jsonio import JSONResponse
+from service.metrics import render
 from service.routes import docs
 from service.routes.common import state
 
@@ -67,17 +67,13 @@ async def readyz(request: Request) -> JSONResponse:
 
 
 @router.get("/metrics", operation_id="getMetrics", summary="Prometheus metrics",
-            response_class=PlainTextResponse)
+            response_class=PlainTextResponse,
+            responses={200: {"description": "Jobs by process and status, queue length, "
+                             "workers, job latency histograms (Prometheus text format).",
+                             "content": {"text/plain": {"schema": {"type": "string"}}}}})
 async def metrics(request: Request) -> PlainTextResponse:
     st = state(request)
-    counts = st.store.count_by_status()
-    lines = ["# HELP morphserve_jobs Jobs in the store by status.", "# TYPE morphserve_jobs gauge"]
-    for status in ("accepted", "running", "successful", "failed", "dismissed"):
-        lines.append(f'morphserve_jobs{{status="{status}"}} {counts.get(status, 0)}')
-    lines += ["# HELP morphserve_workers Connected Dask workers.",
-              "# TYPE morphserve_workers gauge", f"morphserve_workers {await st.engine.n_workers()}",
-              "# HELP morphserve_processes Processes offered.",
-              "# TYPE morphserve_processes gauge",
-              f"morphserve_processes {len(processes(test_processes=st.settings.test_processes))}"]
-    return PlainTextResponse("\n".join(lines) + "\n",
-                             media_type="text/plain; version=0.0.4")
+    text = render(st.metrics, jobs=st.store.count_by_process(), queue=st.engine.active,
+                  workers=await st.engine.n_workers(),
+                  processes=len(processes(test_processes=st.settings.test_processes)))
+    return PlainTextResponse(text, media_type="text/plain; version=0.0.4; charset=utf-8")

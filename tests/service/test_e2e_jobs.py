@@ -112,10 +112,38 @@ def test_job_list_filter_and_paging(http) -> None:
     assert none["jobs"] == [] and none["numberMatched"] == 0
 
 
-def test_metrics_count_jobs(http) -> None:
-    text = http.get("/metrics").text
-    assert 'morphserve_jobs{status="successful"}' in text
-    assert "morphserve_workers 2" in text
+def test_metrics_count_jobs_by_process_and_time_them(http) -> None:
+    from prometheus_client.parser import text_string_to_metric_families
+
+    def scrape() -> dict[str, list]:
+        r = http.get("/metrics")
+        assert r.status_code == 200 and r.headers["content-type"].startswith("text/plain")
+        return {f.name: f.samples for f in text_string_to_metric_families(r.text)}
+
+    def value(fams, family, sample, **labels) -> float:
+        return sum(s.value for s in fams.get(family, []) if s.name == sample
+                   and all(s.labels.get(k) == v for k, v in labels.items()))
+
+    before = scrape()
+    body = {"inputs": {"source": [[0, 0], [1, 0], [0, 1]], "target": [[1, 1], [1, 2], [0, 1]]}}
+    for _ in range(3):
+        assert http.post("/processes/alignment.rigid/execution", json=body).status_code == 200
+    after = scrape()
+    ok = {"process": "alignment.rigid", "status": "successful"}
+    assert value(after, "morphserve_jobs", "morphserve_jobs", **ok) - \
+        value(before, "morphserve_jobs", "morphserve_jobs", **ok) == 3
+    assert value(after, "morphserve_jobs_finished", "morphserve_jobs_finished_total", **ok) - \
+        value(before, "morphserve_jobs_finished", "morphserve_jobs_finished_total", **ok) == 3
+    lat = "morphserve_job_latency_seconds"
+    count = value(after, lat, lat + "_count", process="alignment.rigid")
+    assert count - value(before, lat, lat + "_count", process="alignment.rigid") == 3
+    assert value(after, lat, lat + "_bucket", process="alignment.rigid", le="+Inf") == count
+    assert 0 < value(after, lat, lat + "_sum", process="alignment.rigid") < 60 * count
+    assert value(after, "morphserve_workers", "morphserve_workers") == 2
+    assert value(after, "morphserve_queue_length", "morphserve_queue_length") >= 0
+    by_status = value(after, "morphserve_jobs_by_status", "morphserve_jobs_by_status",
+                      status="successful")
+    assert by_status == value(after, "morphserve_jobs", "morphserve_jobs", status="successful")
 
 
 def test_poison_job_fails_with_a_reason_and_the_service_keeps_serving(http) -> None:
