@@ -36,12 +36,14 @@ class SleepResult:
 
 def sleep(seconds: float = 1.0, steps: int = 10, *, progress: Progress | None = None
           ) -> SleepResult:
-    """Sleep ``seconds`` in ``steps`` slices, reporting progress after each (cancellable)."""
+    """Sleep ``seconds`` in ``steps`` slices, reporting progress after each (cancellable).
+    The messages name the process id, so that tests can kill the worker mid-job."""
     report = as_progress(progress)
     start = time.monotonic()
+    pid = os.getpid()
     for i in range(steps):
         time.sleep(seconds / steps)
-        report(i + 1, steps, f"slept {i + 1}/{steps}")
+        report(i + 1, steps, f"slept {i + 1}/{steps} in pid {pid}")
     return SleepResult(time.monotonic() - start, steps)
 
 

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import re
+import signal
 import time
 
 import pytest
@@ -144,6 +147,29 @@ def test_metrics_count_jobs_by_process_and_time_them(http) -> None:
     by_status = value(after, "morphserve_jobs_by_status", "morphserve_jobs_by_status",
                       status="successful")
     assert by_status == value(after, "morphserve_jobs", "morphserve_jobs", status="successful")
+
+
+def test_a_worker_killed_mid_job_does_not_lose_the_job(http, server) -> None:
+    """SIGKILL the worker running a job (its pid from the progress message): the nanny
+    starts a new worker, the scheduler runs the job again, and it ends successful."""
+    job = _sleep(http, 2, 40)
+    deadline = time.monotonic() + 60
+    while True:
+        info = http.get(f"/jobs/{job}").json()
+        found = re.search(r"in pid (\d+)", info.get("message", ""))
+        if found or time.monotonic() > deadline:
+            break
+        time.sleep(0.05)
+    assert found, info
+    pid = int(found[1])
+    assert pid not in (os.getpid(), server.proc.pid)  # a worker, not the service
+    os.kill(pid, signal.SIGKILL)
+    info = wait_for_status(http, job, timeout=120)
+    assert info["status"] == "successful", info
+    slept = http.get(f"/jobs/{job}/results").json()["slept"]
+    assert slept >= 2.0  # the whole job ran again after the kill
+    with pytest.raises(ProcessLookupError):
+        os.kill(pid, 0)  # and the killed worker really is gone
 
 
 def test_poison_job_fails_with_a_reason_and_the_service_keeps_serving(http) -> None:
