@@ -26,14 +26,24 @@ def _rigid_case(seed: int, n: int = 2000):  # noqa: ANN202
 
 
 def _submit_mix(http, count: int) -> dict[str, tuple]:  # noqa: ANN001
-    """Every fourth job sleeps (keeps workers busy), the others are rigid alignments."""
+    """Two families and a sleeper: every fourth job sleeps (keeps workers busy), every
+    fourth from the second is a nearest-neighbour assignment, the others rigid alignments."""
     expected = {}
     for i in range(count):
         if i % 4 == 0:
-            body = {"inputs": {"seconds": 1.0, "steps": 10}}
+            body = {"inputs": {"seconds": 0.5, "steps": 10}}
             r = http.post("/processes/diagnostics.sleep/execution", json=body,
                           headers={"Prefer": "respond-async"})
             expected[r.json()["jobID"]] = ("sleep",)
+        elif i % 4 == 1:
+            rng = np.random.default_rng(i)
+            X = rng.normal(size=(500, 3))
+            perm = rng.permutation(500)
+            r = http.post("/processes/assignment.nearest/execution",
+                          json={"inputs": {"source": X.tolist(), "target": X[perm].tolist()}},
+                          headers={"Prefer": "respond-async"})
+            # target row t is source row perm[t]: source s is paired with t = argsort(perm)[s]
+            expected[r.json()["jobID"]] = ("nearest", np.argsort(perm))
         else:
             X, Y, R, t = _rigid_case(i)
             r = http.post("/processes/alignment.rigid/execution",
@@ -50,7 +60,12 @@ def _check_results(http, expected: dict[str, tuple], timeout: float) -> None:  #
         assert info["status"] == "successful", info
         res = http.get(f"/jobs/{job_id}/results").json()
         if case[0] == "sleep":
-            assert res["steps"] == 10 and res["slept"] >= 1.0
+            assert res["steps"] == 10 and res["slept"] >= 0.5
+        elif case[0] == "nearest":
+            pairs = np.asarray(res["pairs"])
+            np.testing.assert_array_equal(pairs[:, 0], np.arange(500))
+            np.testing.assert_array_equal(pairs[:, 1], case[1])
+            assert res["rmse"] == 0.0
         else:
             np.testing.assert_allclose(res["rotation"], case[1], atol=1e-10)
             np.testing.assert_allclose(res["translation"], case[2], atol=1e-10)
@@ -67,6 +82,10 @@ def _group_gone(pgid: int, timeout: float = 10.0) -> bool:
     return False
 
 
+#: Jobs accepted before the kill (issue 9: 200 across two families).
+JOBS = 200
+
+
 def test_kill_9_then_restart_loses_nothing(tmp_path: Path) -> None:
     data = tmp_path / "data"
     # everything through Dask, so that jobs are queued and running when the kill comes
@@ -74,20 +93,20 @@ def test_kill_9_then_restart_loses_nothing(tmp_path: Path) -> None:
     srv = LiveServer(data, env).start()
     try:
         with srv.client() as http:
-            expected = _submit_mix(http, 40)
+            expected = _submit_mix(http, JOBS)
         pgid = srv.proc.pid
         srv.kill()  # SIGKILL to the service and its Dask workers at once
         assert _group_gone(pgid), "workers survived the kill"
         with sqlite3.connect(data / "jobs.sqlite3") as db:
             counts = dict(db.execute("SELECT status, COUNT(*) FROM jobs GROUP BY status"))
-        assert sum(counts.values()) == 40
+        assert sum(counts.values()) == JOBS
         assert counts.get("accepted", 0) + counts.get("running", 0) > 0, counts
 
         srv = LiveServer(data, env, port=srv.port).start()
         with srv.client() as http:
-            _check_results(http, expected, timeout=120)
-            listed = http.get("/jobs", params={"limit": 100}).json()
-        assert listed["numberMatched"] == 40
+            _check_results(http, expected, timeout=180)
+            listed = http.get("/jobs", params={"limit": 1000}).json()
+        assert listed["numberMatched"] == JOBS
     finally:
         srv.stop()
 
