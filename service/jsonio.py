@@ -5,6 +5,10 @@ Point arrays make request and response bodies large: orjson parses 2 × 1,000 ×
 through Python lists. Standard JSON has no NaN or Infinity; a body that uses them (as Python's
 ``json.dumps`` does) is read again leniently so that validation can name the input and row
 holding the bad number instead of answering "malformed body".
+
+Dataclasses among the outputs (a deformed :class:`algorithms.core.mesh.Mesh`, handles) are
+written by orjson natively as objects of their fields, ``{"vertices": [...], "faces":
+[...]}``, arrays included (C-contiguous ones directly, others through ``_default``).
 """
 
 from __future__ import annotations

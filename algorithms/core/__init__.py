@@ -1,5 +1,5 @@
 """Building blocks shared by every family: errors, validation, progress, types, small dense
-linear algebra."""
+linear algebra, triangle meshes, graphs, Laplacians and sparse solves."""
 
 from algorithms.core.errors import (
     Cancelled,
@@ -8,7 +8,44 @@ from algorithms.core.errors import (
     GeometryError,
     InvalidInputError,
 )
-from algorithms.core.linalg import Procrustes, homogeneous, numerical_rank, polar, procrustes
+from algorithms.core.graphs import edge_graph, knn_graph, radius_graph, weight
+from algorithms.core.laplacian import (
+    cotangent_entries,
+    cotangent_laplacian,
+    cotangent_weights,
+    face_weights,
+    laplacian,
+    mass_matrix,
+    mesh_laplacian,
+    normalized_laplacian,
+    tangent_entries,
+    tangent_weights,
+    uniform_weights,
+)
+from algorithms.core.linalg import (
+    Procrustes,
+    batched_polar,
+    batched_rotations,
+    homogeneous,
+    numerical_rank,
+    polar,
+    procrustes,
+)
+from algorithms.core.linsolve import Factor, PinnedSystem, available_backends
+from algorithms.core.mesh import (
+    Handles,
+    Mesh,
+    as_handles,
+    as_mesh,
+    boundary_edges,
+    boundary_loops,
+    components,
+    edges,
+    face_angles,
+    face_areas,
+    face_normals,
+    signed_areas,
+)
 from algorithms.core.progress import Progress, as_progress, no_progress
 from algorithms.core.validation import (
     as_bool,
@@ -30,6 +67,8 @@ __all__ = [
     "GeometryError",
     "InvalidInputError",
     "Procrustes",
+    "batched_polar",
+    "batched_rotations",
     "homogeneous",
     "numerical_rank",
     "polar",
@@ -47,4 +86,38 @@ __all__ = [
     "check_min_points",
     "same_dim",
     "same_shape",
+    # meshes
+    "Mesh",
+    "Handles",
+    "as_mesh",
+    "as_handles",
+    "edges",
+    "boundary_edges",
+    "boundary_loops",
+    "face_areas",
+    "signed_areas",
+    "face_normals",
+    "face_angles",
+    "components",
+    # graphs
+    "edge_graph",
+    "knn_graph",
+    "radius_graph",
+    "weight",
+    # Laplacians
+    "cotangent_entries",
+    "tangent_entries",
+    "cotangent_weights",
+    "tangent_weights",
+    "uniform_weights",
+    "face_weights",
+    "laplacian",
+    "mesh_laplacian",
+    "cotangent_laplacian",
+    "normalized_laplacian",
+    "mass_matrix",
+    # sparse solves
+    "Factor",
+    "PinnedSystem",
+    "available_backends",
 ]

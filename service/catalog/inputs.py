@@ -4,6 +4,13 @@ Geometry inputs arrive as JSON arrays and leave validation as numpy arrays, chec
 :mod:`algorithms.core.validation` (the only place input checks live), with a JSON Schema for
 the process description. Limits that depend on the service's settings (most points per
 input) come through pydantic's validation context: ``{"max_points": N}``.
+
+Meshes arrive as ``{"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}`` and leave as
+:class:`algorithms.core.mesh.Mesh` (checked by :func:`~algorithms.core.mesh.as_mesh`: errors
+name ``mesh.vertices`` / ``mesh.faces`` after the field); handles as ``{"indices": [...],
+"positions": [[...], ...]}`` and leave as :class:`algorithms.core.mesh.Handles`, checked for
+their own structure here and against the mesh by the process's model validator
+(:func:`~algorithms.core.mesh.as_handles` with the mesh).
 """
 
 from __future__ import annotations
@@ -14,9 +21,12 @@ import numpy as np
 from pydantic import PlainSerializer, PlainValidator, ValidationInfo, WithJsonSchema
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.mesh import Handles as HandlesData
+from algorithms.core.mesh import Mesh, as_handles, as_mesh
 from algorithms.core.validation import as_points
 
-__all__ = ["Points", "Weights", "points_schema"]
+__all__ = ["Points", "Weights", "points_schema", "MeshInput", "Handles", "HandlesInput",
+           "mesh_schema", "handles_schema"]
 
 
 def points_schema(description: str, *, dim: int | None = None,
@@ -67,3 +77,103 @@ Weights = Annotated[
                     "description": "One non-negative weight per point pair."}),
 ]
 """A flat float array of per-pair weights."""
+
+
+def mesh_schema(description: str) -> dict[str, Any]:
+    return {
+        "type": "object",
+        "description": description,
+        "properties": {
+            "vertices": {"type": "array", "minItems": 3, "description": "One row of 2 or 3 "
+                         "coordinates per vertex.",
+                         "items": {"type": "array", "items": {"type": "number"},
+                                   "minItems": 2, "maxItems": 3}},
+            "faces": {"type": "array", "minItems": 1, "description": "One row of 3 vertex "
+                      "indices (0-based) per triangle, counter-clockwise seen from the front.",
+                      "items": {"type": "array", "items": {"type": "integer", "minimum": 0},
+                                "minItems": 3, "maxItems": 3}},
+        },
+        "required": ["vertices", "faces"],
+        "additionalProperties": False,
+    }
+
+
+def handles_schema(description: str) -> dict[str, Any]:
+    return {
+        "type": "object",
+        "description": description,
+        "properties": {
+            "indices": {"type": "array", "minItems": 1, "description": "Distinct vertex "
+                        "indices (0-based).", "items": {"type": "integer", "minimum": 0}},
+            "positions": {"type": "array", "minItems": 1, "description": "Target position "
+                          "of each handle, row i for indices[i], same dimension as the mesh.",
+                          "items": {"type": "array", "items": {"type": "number"},
+                                    "minItems": 2, "maxItems": 3}},
+        },
+        "required": ["indices", "positions"],
+        "additionalProperties": False,
+    }
+
+
+def _object_members(value: Any, name: str, keys: tuple[str, str]) -> tuple[Any, Any]:
+    expected = f"an object with keys {keys[0]!r} and {keys[1]!r}"
+    if not isinstance(value, dict):
+        raise InvalidInputError(f"Expected `{name}` to be {expected}, got "
+                                f"{type(value).__name__}.", field=name)
+    missing = [k for k in keys if k not in value]
+    if missing:
+        raise InvalidInputError(f"Expected `{name}` to be {expected}, got no "
+                                f"{missing[0]!r}.", field=name)
+    extra = sorted(str(k) for k in value if k not in keys)
+    if extra:
+        raise InvalidInputError(f"Expected `{name}` to be {expected}, got an unknown key "
+                                f"{extra[0]!r}.", field=name)
+    return value[keys[0]], value[keys[1]]
+
+
+def _validate_mesh(value: Any, info: ValidationInfo) -> Mesh:
+    name = info.field_name or "mesh"
+    if isinstance(value, Mesh):
+        value = {"vertices": value.vertices, "faces": value.faces}
+    vertices, faces = _object_members(value, name, ("vertices", "faces"))
+    max_points = (info.context or {}).get("max_points")
+    return as_mesh(vertices, faces, name=name, max_vertices=max_points)
+
+
+def _validate_handles(value: Any, info: ValidationInfo) -> HandlesData:
+    name = info.field_name or "handles"
+    if not isinstance(value, HandlesData):
+        _object_members(value, name, ("indices", "positions"))
+    return as_handles(value, None, name=name)  # against the mesh: the model's validator
+
+
+def _mesh_json(m: Mesh) -> dict[str, Any]:
+    return {"vertices": m.vertices.tolist(), "faces": m.faces.tolist()}
+
+
+def _handles_json(h: HandlesData) -> dict[str, Any]:
+    return {"indices": h.indices.tolist(), "positions": h.positions.tolist()}
+
+
+MeshInput = Annotated[
+    Mesh,
+    PlainValidator(_validate_mesh),
+    PlainSerializer(_mesh_json),
+    WithJsonSchema(mesh_schema("A triangle mesh: vertex coordinates and triangles.")),
+]
+"""A triangle mesh, given as ``{"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}``;
+validated into :class:`algorithms.core.mesh.Mesh`."""
+
+Handles = Annotated[
+    HandlesData,
+    PlainValidator(_validate_handles),
+    PlainSerializer(_handles_json),
+    WithJsonSchema(handles_schema("Vertices to move and where: their indices and target "
+                                  "positions.")),
+]
+"""Deformation handles, given as ``{"indices": [...], "positions": [[...], ...]}``; validated
+into :class:`algorithms.core.mesh.Handles` (structure only: check them against the mesh with
+``as_handles(handles, mesh)`` in a model validator)."""
+
+HandlesInput = Handles
+"""Alias of :data:`Handles` that does not shadow the dataclass's name."""

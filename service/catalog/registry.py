@@ -76,6 +76,14 @@ def _schema_of(hint: Any) -> dict[str, Any]:
         return {**inner, "nullable": True} if inner else {}
     if hint is np.ndarray or origin is np.ndarray:
         return {"type": "array"}
+    if origin in (list, tuple) or hint in (list, tuple):
+        return {"type": "array"}
+    if origin is dict or hint is dict:
+        return {"type": "object"}
+    if dataclasses.is_dataclass(hint):  # a nested result, such as a Mesh: its fields
+        hints = typing.get_type_hints(hint)
+        return {"type": "object", "properties": {
+            f.name: _schema_of(hints.get(f.name)) for f in dataclasses.fields(hint)}}
     return {}
 
 

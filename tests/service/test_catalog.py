@@ -3,6 +3,7 @@ parameter model is strict (no server, no Dask)."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
@@ -94,7 +95,8 @@ def test_every_output_is_described(p: Process) -> None:
         assert out.description.strip(), f"{p.id}: output {name!r} has no description"
         assert out.title.strip()
         assert isinstance(out.schema, dict) and out.schema, f"{p.id}: output {name!r} has no schema"
-        assert out.schema.get("type") in ("array", "number", "integer", "boolean", "string")
+        assert out.schema.get("type") in ("array", "number", "integer", "boolean", "string",
+                                          "object")
 
 
 @pytest.mark.parametrize("p", ALL, ids=_ids)
@@ -163,8 +165,9 @@ def test_process_description(p: Process) -> None:
 
 
 # -- running the examples ------------------------------------------------------------------
-_KIND = {"array": np.ndarray, "number": (float, np.floating), "integer": (int, np.integer),
-         "boolean": (bool, np.bool_), "string": str}
+_KIND = {"array": (np.ndarray, list, tuple), "number": (float, np.floating),
+         "integer": (int, np.integer), "boolean": (bool, np.bool_), "string": str,
+         "object": object}  # a nested dataclass (a Mesh) or a dict
 
 
 @pytest.mark.parametrize("p", [p for p in ALL if p.id not in NEVER_RUN], ids=_ids)
@@ -179,8 +182,11 @@ def test_run_first_examples(p: Process) -> None:
     assert list(out) == list(p.outputs)
     for name, value in out.items():
         assert value is not None, (p.id, name)
-        kind = _KIND[p.outputs[name].schema["type"]]
-        assert isinstance(value, kind), (p.id, name, type(value))
+        schema = p.outputs[name].schema
+        assert isinstance(value, _KIND[schema["type"]]), (p.id, name, type(value))
+        if schema["type"] == "object" and "properties" in schema:
+            assert dataclasses.is_dataclass(value), (p.id, name, type(value))
+            assert [f.name for f in dataclasses.fields(value)] == list(schema["properties"])
         if isinstance(value, np.ndarray):
             assert value.size == 0 or np.isfinite(value).all(), (p.id, name)
     json.loads(jsonio.dumps(out))  # what the service writes
@@ -419,7 +425,7 @@ def test_outputs_of_hand_written_dataclass() -> None:
     assert outs["maybe"].schema == {"type": "number", "nullable": True}
     assert outs["maybe"].description == "" and outs["maybe"].title == "maybe"
     assert outs["undocumented_list"].title == "undocumented list"
-    assert outs["undocumented_list"].schema == {}
+    assert outs["undocumented_list"].schema == {"type": "array", "nullable": True}
 
 
 def test_process_from_hand_written_dataclass() -> None:

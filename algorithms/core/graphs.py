@@ -1,0 +1,266 @@
+r"""Neighbourhood graphs and their edge weights: the adjacency every Laplacian starts from.
+
+A graph here is a symmetric ``(n, n)`` :class:`scipy.sparse.csr_array` whose stored entries
+are its edges. The builders store each edge's *length* (the distance between its end
+points) so that :func:`weight` can turn lengths into weights afterwards; zero lengths
+(coincident points) are stored explicitly, never dropped, so the structure is always the
+edge set.
+
+* :func:`edge_graph` — from an explicit edge list (a mesh's :func:`~algorithms.core.mesh.edges`);
+* :func:`knn_graph` — each point to its ``k`` nearest others, symmetrised by union or
+  mutual agreement (a kd-tree: :class:`scipy.spatial.cKDTree`);
+* :func:`radius_graph` — every pair closer than ``r``;
+* :func:`weight` — uniform (1), inverse distance (:math:`1/d`) or heat kernel
+  (:math:`e^{-d^2/(2\sigma^2)}`, Belkin & Niyogi 2003).
+
+Then :func:`algorithms.core.laplacian.laplacian` gives ``L = D - W``.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.validation import as_choice, as_float, as_indices, as_int, as_points
+
+__all__ = ["edge_graph", "knn_graph", "radius_graph", "weight", "graph_from_pairs"]
+
+
+def graph_from_pairs(n: int, i: Any, j: Any, data: Any) -> sp.csr_array:
+    """A symmetric csr_array with ``data[e]`` at ``(i[e], j[e])`` and ``(j[e], i[e])``.
+
+    Repeated pairs (in either orientation) keep the value of their first occurrence;
+    explicit zeros are kept (they are edges of length zero).
+    """
+    i = np.asarray(i, dtype=np.int64)
+    j = np.asarray(j, dtype=np.int64)
+    data = np.asarray(data, dtype=np.float64)
+    lo, hi = np.minimum(i, j), np.maximum(i, j)
+    keys, first = np.unique(lo * n + hi, return_index=True)
+    lo, hi, d = keys // n, keys % n, data[first]
+    rows = np.concatenate([lo, hi])
+    cols = np.concatenate([hi, lo])
+    vals = np.concatenate([d, d])
+    g = sp.csr_array((vals, (rows, cols)), shape=(n, n))
+    g.sum_duplicates()  # no duplicates left: this only sorts the indices
+    return g
+
+
+def edge_graph(n: int, edges: Any, weights: Any = None, *, name: str = "edges") -> sp.csr_array:
+    """The symmetric adjacency matrix of an undirected graph given by its edges.
+
+    Parameters
+    ----------
+    n : int
+        Number of vertices.
+    edges : (e, 2) int array
+        Pairs of distinct vertex indices, either orientation; a pair given twice (in either
+        orientation) is one edge.
+    weights : (e,) float array, optional
+        A finite value per edge (for a repeated edge, its first occurrence counts); 1 for
+        every edge when omitted.
+    name : str, default "edges"
+        Names the edge list in errors (the weights are ``weights``).
+
+    Returns
+    -------
+    (n, n) csr_array
+        Symmetric, zero diagonal.
+
+    Raises
+    ------
+    InvalidInputError
+        ``edges`` not ``(e, 2)`` indices below ``n``, a self-loop, or ``weights`` not ``(e,)``
+        finite numbers.
+
+    Examples
+    --------
+    >>> edge_graph(3, [[0, 1], [1, 2]]).toarray().tolist()
+    [[0.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]]
+    """
+    n = as_int(n, name="n", minimum=0)
+    e = as_indices(edges, n, name=name, what="vertex indices")
+    if e.size == 0:
+        e = e.reshape(0, 2)
+    if e.ndim != 2 or e.shape[1] != 2:
+        raise InvalidInputError(
+            f"Expected `{name}` to be an (e, 2) array of vertex indices, got shape "
+            f"{tuple(e.shape)}.", field=name)
+    loop = e[:, 0] == e[:, 1]
+    if loop.any():
+        row = int(np.argmax(loop))
+        raise InvalidInputError(
+            f"Expected `{name}` to join two distinct vertices, got {e[row].tolist()} at row "
+            f"{row}.", field=name)
+    if weights is None:
+        w = np.ones(e.shape[0])
+    else:
+        try:
+            w = np.asarray(weights, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"Expected `weights` to be an ({e.shape[0]},) array of numbers, got "
+                f"{type(weights).__name__}.", field="weights") from None
+        if w.shape != (e.shape[0],):
+            raise InvalidInputError(
+                f"Expected `weights` to be an ({e.shape[0]},) array, one per edge, got shape "
+                f"{tuple(w.shape)}.", field="weights")
+        bad = ~np.isfinite(w)
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise InvalidInputError(
+                f"Expected `weights` to hold finite numbers, got {float(w[row])!r} at position {row}.",
+                field="weights")
+    return graph_from_pairs(n, e[:, 0], e[:, 1], w)
+
+
+def knn_graph(points: Any, k: int, *, mode: Literal["union", "mutual"] = "union",
+              name: str = "points") -> sp.csr_array:
+    """The k-nearest-neighbour graph, with distances as edge values.
+
+    Parameters
+    ----------
+    points : (n, d) float array
+    k : int
+        Neighbours per point, ``1 <= k <= n - 1`` (a point is not its own neighbour).
+    mode : {"union", "mutual"}, default "union"
+        ``"union"``: ``i ~ j`` when either is among the other's ``k`` nearest (every point
+        keeps at least ``k`` neighbours); ``"mutual"``: when both are (points may end up
+        isolated).
+    name : str, default "points"
+
+    Returns
+    -------
+    (n, n) csr_array
+        Symmetric; entry ``(i, j)`` is ``‖p_i - p_j‖`` (explicit zeros for coincident points).
+        Equals ``sklearn.neighbors.kneighbors_graph(points, k, mode="distance")`` symmetrised
+        by maximum (union) or minimum of structure (mutual), up to ties among equidistant
+        neighbours.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad ``points`` (see :func:`~algorithms.core.validation.as_points`), ``k`` outside
+        ``[1, n - 1]``, unknown ``mode``.
+    """
+    x = as_points(points, name=name, min_points=2)
+    n = x.shape[0]
+    k = as_int(k, name="k", minimum=1, maximum=n - 1, reason=f"the number of `{name}` minus one")
+    as_choice(mode, ("union", "mutual"), name="mode")
+    tree = cKDTree(x)
+    dist, idx = tree.query(x, k=k + 1)
+    dist, idx = dist.reshape(n, k + 1), idx.reshape(n, k + 1)
+    own = idx == np.arange(n)[:, None]
+    # drop each point itself; where coincident points hid it beyond k + 1, drop the last
+    missing = ~own.any(axis=1)
+    own[missing, -1] = True
+    keep = ~own
+    i = np.repeat(np.arange(n), k)
+    j = idx[keep]
+    d = dist[keep]
+    if mode == "union":
+        return graph_from_pairs(n, i, j, d)
+    keys = i * n + j
+    back = j * n + i
+    both = np.isin(keys, back)
+    return graph_from_pairs(n, i[both], j[both], d[both])
+
+
+def radius_graph(points: Any, r: float, *, name: str = "points") -> sp.csr_array:
+    """Every pair of points at distance at most ``r``, with distances as edge values.
+
+    Parameters
+    ----------
+    points : (n, d) float array
+    r : float
+        The radius, ``r > 0``.
+    name : str, default "points"
+
+    Returns
+    -------
+    (n, n) csr_array
+        Symmetric, zero diagonal; explicit zeros for coincident points. Equals
+        ``sklearn.neighbors.radius_neighbors_graph(points, r, mode="distance")``.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad ``points`` or ``r`` not a positive number.
+    """
+    x = as_points(points, name=name)
+    r = as_float(r, name="r", minimum=0.0, inclusive=False)
+    n = x.shape[0]
+    pairs = cKDTree(x).query_pairs(r, output_type="ndarray")
+    if pairs.size == 0:
+        return sp.csr_array((n, n), dtype=np.float64)
+    d = np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1)
+    return graph_from_pairs(n, pairs[:, 0], pairs[:, 1], d)
+
+
+def weight(adjacency: Any, kind: Literal["uniform", "distance", "heat"] = "uniform", *,
+           sigma: float | None = None, name: str = "points") -> sp.csr_array:
+    r"""Turn edge lengths into edge weights.
+
+    Parameters
+    ----------
+    adjacency : (n, n) sparse array
+        A graph whose stored entries are edge lengths (:func:`knn_graph`,
+        :func:`radius_graph`, or :func:`edge_graph` with lengths).
+    kind : {"uniform", "distance", "heat"}, default "uniform"
+        ``"uniform"``: :math:`w = 1`; ``"distance"``: :math:`w = 1/d` (inverse distance:
+        near neighbours pull harder); ``"heat"``: :math:`w = e^{-d^2 / (2\sigma^2)}`.
+    sigma : float, optional
+        The heat kernel's width, ``> 0``; the mean edge length when omitted.
+    name : str, default "points"
+        The input to blame for a zero length with ``"distance"``.
+
+    Returns
+    -------
+    (n, n) csr_array
+        Same structure as ``adjacency``, new values.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown ``kind``; ``sigma`` not positive; a negative or non-finite length.
+    DegenerateInputError
+        A zero length with ``kind="distance"`` (coincident points: infinite weight).
+
+    Examples
+    --------
+    >>> g = edge_graph(3, [[0, 1], [1, 2]], [2.0, 4.0])
+    >>> weight(g, "distance").toarray()[1].tolist()
+    [0.5, 0.0, 0.25]
+    """
+    as_choice(kind, ("uniform", "distance", "heat"), name="kind")
+    g = sp.csr_array(adjacency, dtype=np.float64, copy=True)
+    d = g.data
+    bad = ~np.isfinite(d) | (d < 0)
+    if bad.any():
+        at = int(np.argmax(bad))
+        raise InvalidInputError(
+            f"Expected `adjacency` to hold finite non-negative edge lengths, got {float(d[at])!r}.",
+            field="adjacency")
+    if kind == "uniform":
+        g.data = np.ones_like(d)
+    elif kind == "distance":
+        zero = d == 0
+        if zero.any():
+            row = np.repeat(np.arange(g.shape[0]), np.diff(g.indptr))
+            at = int(np.argmax(zero))
+            raise DegenerateInputError(
+                f"Expected distinct `{name}` for inverse-distance weights, got points "
+                f"{int(row[at])} and {int(g.indices[at])} at distance 0.", field=name)
+        g.data = 1.0 / d
+    else:
+        if sigma is None:
+            s = float(d.mean()) if d.size else 1.0
+            s = s if s > 0 else 1.0
+        else:
+            s = as_float(sigma, name="sigma", minimum=0.0, inclusive=False)
+        g.data = np.exp(-(d * d) / (2.0 * s * s))
+    return g

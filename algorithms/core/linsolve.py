@@ -1,0 +1,449 @@
+r"""Sparse symmetric positive definite solves: factor once, solve many right-hand sides; and
+the pinned block split of a Laplacian system.
+
+Backends
+--------
+:class:`Factor` takes the first backend that is installed and accepts the matrix:
+
+1. ``"cholmod"``: SuiteSparse CHOLMOD (supernodal Cholesky, fill-reducing ordering) through
+   ``cvxopt.cholmod``; cvxopt ships CHOLMOD inside its manylinux wheels, so it installs
+   with pip alone.
+2. ``"cholespy"``: the sparse Cholesky of ``cholespy`` (wheels; slower to factor, fastest
+   to solve: blocked over right-hand sides and multi-threaded).
+3. ``"superlu"``: SciPy's SuperLU (always there) with the symmetric ``MMD_AT_PLUS_A``
+   ordering and no pivoting threshold (SPD matrices need none); it also handles
+   symmetric indefinite matrices, so a matrix a Cholesky backend refuses as not positive
+   definite falls back to it.
+
+Measured on this machine (2 cores, shared with other work, so medians of 5-9 runs vary by
+up to 2×) for the pinned cotangent Laplacian of a 50,176-vertex jittered wavy grid (49,284
+free vertices, 343k non-zeros; ``bench/solvers.py`` prints these)::
+
+    backend                    factor         solve, 1 / 3 / 6 right-hand sides
+    cholmod (cvxopt 1.3.3)     0.08-0.16 s    14 / 45 / 90 ms   (one column at a time)
+    cholespy 2.2.0             0.51-0.81 s     9 / 12 / 30 ms   (blocked, 2 threads)
+    superlu (scipy 1.17)       0.35-0.59 s    15 / 24 / 125 ms  (COLAMD ordering: 0.60 s)
+    scikit-sparse              no wheel for Linux/CPython 3.11 (needs SuiteSparse headers)
+    sksparse-minimal 0.3       0.25 s         46 ms for 3       (a wheel, but its extension
+                                                                 clashes with cholespy's)
+
+CHOLMOD factors 3-5× faster than the others, which dominates one-shot solves (Tutte layout,
+harmonic and biharmonic deformation: factor once, solve once), so cvxopt is a dependency and
+``"cholmod"`` leads the default order. Its solves are the slowest per right-hand side, so
+for a factorization reused many times (ARAP iterations, a solver object dragged
+interactively) pass ``prefer="solve"``: cholespy first, it pays back its slower
+factorization after about 15 solves of 3 right-hand sides. The orders are the fallback
+orders when a backend is missing.
+
+The pinned split
+----------------
+For :math:`L x = b` with the rows in ``pinned`` fixed to :math:`c`, reorder the unknowns
+into free (``f``) and pinned (``p``):
+
+.. math::
+
+   L_{ff}\, x_f = b_f - L_{fp}\, c, \qquad x_p = c.
+
+:math:`L_{ff}` is positive definite exactly when every connected component of the graph of
+:math:`L` holds a pin (for a Laplacian with positive weights on a connected component,
+the null space is the constant vector, which any pin removes; the cotangent Laplacian is
+the stiffness matrix of linear finite elements, so it is positive semidefinite whatever
+the angles). :class:`PinnedSystem` checks that and names the component that has no pin.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from typing import Any, Literal
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_choice, as_indices
+
+__all__ = ["Factor", "PinnedSystem", "BACKENDS", "SOLVE_ORDER", "available_backends"]
+
+#: Backends in order of preference (see the module docstring for the measurements).
+BACKENDS = ("cholmod", "cholespy", "superlu")
+#: The order for ``prefer="solve"``: fastest repeated solves first.
+SOLVE_ORDER = ("cholespy", "cholmod", "superlu")
+
+_MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy"}
+
+
+def available_backends() -> tuple[str, ...]:
+    """The installed backends, in order of preference."""
+    return tuple(b for b in BACKENDS if importlib.util.find_spec(_MODULES[b]) is not None)
+
+
+class _NotPositiveDefinite(Exception):
+    pass
+
+
+class _Cholmod:
+    name = "cholmod"
+
+    def __init__(self, a: sp.csc_array) -> None:
+        import cvxopt
+        import cvxopt.cholmod as cholmod
+
+        low = sp.tril(a, format="csc")
+        low.sum_duplicates()
+        col = np.repeat(np.arange(low.shape[1], dtype=np.int64), np.diff(low.indptr))
+        m = cvxopt.spmatrix(cvxopt.matrix(low.data), cvxopt.matrix(low.indices.astype(np.int64)),
+                            cvxopt.matrix(col), low.shape)
+        self._cvxopt, self._cholmod = cvxopt, cholmod
+        self._factor = cholmod.symbolic(m, uplo="L")
+        try:
+            cholmod.numeric(m, self._factor)
+        except ArithmeticError:
+            raise _NotPositiveDefinite from None
+
+    def solve(self, b: FloatArray) -> FloatArray:
+        x = self._cvxopt.matrix(np.asfortranarray(b))
+        self._cholmod.solve(self._factor, x)
+        return np.array(x).reshape(b.shape)
+
+
+class _Cholespy:
+    name = "cholespy"
+
+    def __init__(self, a: sp.csc_array) -> None:
+        import cholespy
+
+        a = sp.csc_array(a)
+        a.sum_duplicates()
+        try:
+            self._solver = cholespy.CholeskySolverD(
+                a.shape[0], a.indptr.astype(np.int32), a.indices.astype(np.int32),
+                np.ascontiguousarray(a.data, dtype=np.float64), cholespy.MatrixType.CSC)
+        except ValueError:  # "Matrix is not positive definite!"
+            raise _NotPositiveDefinite from None
+
+    def solve(self, b: FloatArray) -> FloatArray:
+        b = np.ascontiguousarray(b)
+        x = np.empty_like(b)
+        self._solver.solve(b, x)
+        return x
+
+
+class _SuperLU:
+    name = "superlu"
+
+    def __init__(self, a: sp.csc_array) -> None:
+        self._lu = sla.splu(sp.csc_matrix(a), permc_spec="MMD_AT_PLUS_A",
+                            diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+
+    def solve(self, b: FloatArray) -> FloatArray:
+        return self._lu.solve(b)
+
+
+class _SuperLUPivoting(_SuperLU):
+    """Partial pivoting: for symmetric indefinite matrices (the fallback's fallback)."""
+
+    def __init__(self, a: sp.csc_array) -> None:
+        self._lu = sla.splu(sp.csc_matrix(a), permc_spec="MMD_AT_PLUS_A")
+
+
+_CLASSES = {"cholmod": _Cholmod, "cholespy": _Cholespy, "superlu": _SuperLU}
+
+
+class Factor:
+    r"""A factorization of a sparse symmetric positive definite matrix, for many solves.
+
+    Parameters
+    ----------
+    A : (n, n) sparse array or matrix
+        Symmetric positive definite (the Cholesky backends read its lower triangle only).
+        A symmetric indefinite but non-singular matrix is accepted too: a Cholesky backend
+        refuses it and SuperLU takes over.
+    backend : {"auto", "cholmod", "cholespy", "superlu"}, default "auto"
+        ``"auto"`` takes the first installed of :data:`BACKENDS` (or of
+        :data:`SOLVE_ORDER` with ``prefer="solve"``).
+    prefer : {"factor", "solve"}, default "factor"
+        What ``"auto"`` optimises: the factorization (few solves per factorization) or the
+        solves (many: iterations, interactive handles).
+    name : str, default "A"
+        Names the matrix in errors.
+
+    Attributes
+    ----------
+    backend : str
+        The backend that factored ``A``.
+    shape : tuple of int
+        ``(n, n)``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``A`` not square, an unknown or uninstalled ``backend``.
+    DegenerateInputError
+        ``A`` singular (every backend failed).
+
+    Notes
+    -----
+    See the module docstring for the backends and their measured speed.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> f = Factor(sp.csr_array([[2.0, -1.0], [-1.0, 2.0]]))
+    >>> f.solve(np.array([1.0, 1.0])).round(12).tolist()
+    [1.0, 1.0]
+    """
+
+    def __init__(self, A: Any, *, backend: str = "auto",
+                 prefer: Literal["factor", "solve"] = "factor", name: str = "A") -> None:
+        as_choice(backend, ("auto",) + BACKENDS, name="backend")
+        as_choice(prefer, ("factor", "solve"), name="prefer")
+        a = sp.csc_array(A, dtype=np.float64)
+        if a.ndim != 2 or a.shape[0] != a.shape[1]:
+            raise InvalidInputError(
+                f"Expected `{name}` to be a square (n, n) matrix, got shape {tuple(a.shape)}.",
+                field=name)
+        self.shape: tuple[int, int] = (int(a.shape[0]), int(a.shape[1]))
+        installed = available_backends()
+        if backend == "auto":
+            order = [b for b in (BACKENDS if prefer == "factor" else SOLVE_ORDER)
+                     if b in installed]
+        elif backend not in installed:
+            raise InvalidInputError(
+                f"Expected `backend` to be an installed solver backend ({', '.join(installed)}),"
+                f" got {backend!r} (install {_MODULES[backend]}).", field="backend")
+        else:
+            order = [backend] + (["superlu"] if backend != "superlu" else [])
+        self._impl: Any = None
+        self.backend = "none"
+        if self.shape[0] == 0:
+            return
+        refused = False
+        for b in order:
+            if refused and b != "superlu":
+                continue  # one Cholesky backend refused it: another would too
+            try:
+                self._impl = _CLASSES[b](a)
+            except _NotPositiveDefinite:
+                refused = True
+                continue
+            except RuntimeError:  # SuperLU without pivoting met a zero pivot
+                break
+            self.backend = b
+            break
+        if self._impl is None:
+            try:  # not positive definite, or singular to SuperLU without pivoting
+                self._impl = _SuperLUPivoting(a)
+                self.backend = "superlu"
+            except RuntimeError:
+                raise DegenerateInputError(
+                    f"Expected `{name}` to be non-singular, got a singular {self.shape[0]}×"
+                    f"{self.shape[1]} matrix.", field=name) from None
+
+    @property
+    def n(self) -> int:
+        return self.shape[0]
+
+    def solve(self, b: Any) -> FloatArray:
+        """Solve ``A x = b``.
+
+        Parameters
+        ----------
+        b : (n,) or (n, k) float array
+
+        Returns
+        -------
+        x : float array, the shape of ``b``
+
+        Raises
+        ------
+        InvalidInputError
+            ``b`` has the wrong number of rows or dimensions.
+        """
+        arr = np.asarray(b, dtype=np.float64)
+        if arr.ndim not in (1, 2) or arr.shape[0] != self.n:
+            raise InvalidInputError(
+                f"Expected `b` to have shape ({self.n},) or ({self.n}, k), got "
+                f"{tuple(arr.shape)}.", field="b")
+        if self.n == 0 or arr.size == 0:
+            return np.zeros(arr.shape)
+        return self._impl.solve(arr)
+
+    def __repr__(self) -> str:
+        return f"Factor(n={self.n}, backend={self.backend!r})"
+
+
+class PinnedSystem:
+    r"""Factor a Laplacian with pinned rows once; solve for many pinned values.
+
+    Solves :math:`\min_x \tfrac12 x^\mathsf{T} L x - x^\mathsf{T} b` subject to
+    :math:`x_p = c`, i.e. :math:`L_{ff} x_f = b_f - L_{fp} c`, for one or many columns.
+
+    Parameters
+    ----------
+    L : (n, n) sparse array
+        Symmetric positive semidefinite (a Laplacian, ``L = D - W``), or any symmetric
+        matrix whose free block is non-singular.
+    pinned : (p,) int array
+        Distinct indices of the pinned rows.
+    name : str, default "handles"
+        The input the pins came from: errors name it.
+    backend : str, default "auto"
+        Passed to :class:`Factor`.
+    prefer : {"factor", "solve"}, default "factor"
+        Passed to :class:`Factor`: ``"solve"`` when :meth:`solve` will be called many times.
+    check_components : bool, default True
+        Check that every connected component of the graph of ``L`` (its off-diagonal
+        non-zeros) holds a pin. Turn off for matrices that are positive definite on their
+        own (``L + M``).
+
+    Attributes
+    ----------
+    n : int
+        Number of rows of ``L``.
+    pinned : (p,) int array
+        The pinned indices, as given.
+    free : (n - p,) int array
+        The other indices, increasing.
+    factor : Factor
+        The factorization of ``L_ff``.
+    L_ff, L_fp : csr_array
+        The free-free and free-pinned blocks of ``L``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``L`` not square; ``pinned`` out of range, not flat, or repeating an index (field
+        ``name``).
+    DegenerateInputError
+        A connected component without a pin (field ``name``); the message gives its size
+        and one of its vertices.
+
+    Examples
+    --------
+    A path 0 - 1 - 2 with its ends pinned to 0 and 1: the middle lands half-way.
+
+    >>> import scipy.sparse as sp
+    >>> L = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    >>> PinnedSystem(L, [0, 2]).solve([[0.0], [1.0]]).ravel().round(12).tolist()
+    [0.0, 0.5, 1.0]
+    """
+
+    def __init__(self, L: Any, pinned: Any, *, name: str = "handles", backend: str = "auto",
+                 prefer: Literal["factor", "solve"] = "factor",
+                 check_components: bool = True) -> None:
+        lap = sp.csr_array(L, dtype=np.float64)
+        if lap.ndim != 2 or lap.shape[0] != lap.shape[1]:
+            raise InvalidInputError(
+                f"Expected `L` to be a square (n, n) matrix, got shape {tuple(lap.shape)}.",
+                field="L")
+        n = int(lap.shape[0])
+        pins = as_indices(pinned, n, name=name, what="vertex indices")
+        if pins.ndim != 1:
+            raise InvalidInputError(
+                f"Expected `{name}` to be a flat list of vertex indices, got shape "
+                f"{tuple(pins.shape)}.", field=name)
+        mask = np.zeros(n, dtype=bool)
+        mask[pins] = True
+        if np.count_nonzero(mask) != pins.shape[0]:
+            order = np.argsort(pins, kind="stable")
+            k = int(np.flatnonzero(pins[order][1:] == pins[order][:-1])[0])
+            first, second = sorted((int(order[k]), int(order[k + 1])))
+            raise InvalidInputError(
+                f"Expected `{name}` to be unique, got {int(pins[first])} twice (positions "
+                f"{first} and {second}).", field=name)
+        if check_components:
+            _check_pins(lap, mask, name)
+        self.n = n
+        self.pinned: IntArray = pins
+        self.free: IntArray = np.flatnonzero(~mask).astype(np.int64)
+        self._name = name
+        rows = lap[self.free]
+        self.L_ff: sp.csr_array = rows[:, self.free].tocsr()
+        self.L_fp: sp.csr_array = rows[:, pins].tocsr()
+        self.factor = Factor(self.L_ff, backend=backend, prefer=prefer, name="L")
+
+    def solve(self, pinned_values: Any, rhs: Any = None) -> FloatArray:
+        """Solve with the pinned rows set to ``pinned_values``.
+
+        Parameters
+        ----------
+        pinned_values : (p, k) or (p,) float array
+            Row ``i`` is the value of ``pinned[i]``.
+        rhs : (n, k) or (n,) float array, optional
+            The right-hand side ``b`` (rows at pinned indices are ignored); zero when
+            omitted (harmonic interpolation of the pinned values).
+
+        Returns
+        -------
+        (n, k) or (n,) float array
+            The shape follows ``pinned_values``; pinned rows equal ``pinned_values``
+            exactly.
+
+        Raises
+        ------
+        InvalidInputError
+            ``pinned_values`` without one row per pin, or ``rhs`` of the wrong shape.
+        """
+        c = np.asarray(pinned_values, dtype=np.float64)
+        p = self.pinned.shape[0]
+        if c.ndim not in (1, 2) or c.shape[0] != p:
+            raise InvalidInputError(
+                f"Expected the values of `{self._name}` to have shape ({p}, k), got "
+                f"{tuple(c.shape)}.", field=self._name)
+        vector = c.ndim == 1
+        c2 = c[:, None] if vector else c
+        k = c2.shape[1]
+        b_f = -(self.L_fp @ c2) if p else np.zeros((self.free.shape[0], k))
+        if rhs is not None:
+            r = np.asarray(rhs, dtype=np.float64)
+            r2 = r[:, None] if r.ndim == 1 else r
+            if r2.ndim != 2 or r2.shape != (self.n, k):
+                raise InvalidInputError(
+                    f"Expected `rhs` to have shape ({self.n}, {k}), got {tuple(r.shape)}.",
+                    field="rhs")
+            b_f = b_f + r2[self.free]
+        out = np.empty((self.n, k))
+        out[self.pinned] = c2
+        out[self.free] = self.factor.solve(b_f)
+        return out[:, 0] if vector else out
+
+    def __repr__(self) -> str:
+        return (f"PinnedSystem(n={self.n}, pinned={self.pinned.shape[0]}, "
+                f"backend={self.factor.backend!r})")
+
+
+def _check_pins(lap: sp.csr_array, pinned_mask: np.ndarray, name: str) -> None:
+    """Raise unless every connected component of the graph of ``lap`` holds a pin."""
+    from scipy.sparse.csgraph import connected_components
+
+    n = lap.shape[0]
+    if n == 0:
+        return
+    graph = lap.copy()
+    graph.data = (graph.data != 0).astype(np.int8)
+    graph.eliminate_zeros()  # an explicit zero weight is no edge
+    count, labels = connected_components(graph, directed=False)
+    has_pin = np.zeros(count, dtype=bool)
+    has_pin[labels[pinned_mask]] = True
+    if has_pin.all():
+        return
+    missing = np.flatnonzero(~has_pin)
+    sizes = np.bincount(labels, minlength=count)
+    # report the component of the smallest vertex among those without a pin
+    first_vertex = np.full(count, n, dtype=np.int64)
+    np.minimum.at(first_vertex, labels, np.arange(n))
+    comp = missing[np.argmin(first_vertex[missing])]
+    vertex, size = int(first_vertex[comp]), int(sizes[comp])
+    more = (f"; {missing.shape[0]} of the {count} components have none"
+            if missing.shape[0] > 1 else "")
+    if size > 1:
+        what = f"a component of {size} vertices (vertex {vertex} among them)"
+    elif lap[[vertex]].count_nonzero() == 0:
+        what = f"a component of 1 vertex (vertex {vertex}, isolated: in no face or edge)"
+    else:
+        what = f"a component of 1 vertex (vertex {vertex})"
+    raise DegenerateInputError(
+        f"Expected every connected component to hold at least one of `{name}`, got "
+        f"{what} without one{more}.", field=name)

@@ -1,0 +1,259 @@
+"""Tests for algorithms.core.linsolve: Factor (every backend) and PinnedSystem."""
+
+from __future__ import annotations
+
+import igl
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+import trimesh
+
+from algorithms.core import DegenerateInputError, InvalidInputError
+from algorithms.core import linsolve
+from algorithms.core.laplacian import cotangent_laplacian, mesh_laplacian
+from algorithms.core.linsolve import BACKENDS, Factor, PinnedSystem, available_backends
+from algorithms.core.mesh import boundary_loops
+
+
+def grid(nx: int = 12, ny: int = 10, jitter: float = 0.3, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    x, y = np.meshgrid(np.linspace(0, 1, nx), np.linspace(0, 1, ny))
+    v = np.c_[x.ravel(), y.ravel()]
+    inner = (x.ravel() > 0) & (x.ravel() < 1) & (y.ravel() > 0) & (y.ravel() < 1)
+    v[inner] += rng.uniform(-jitter, jitter, (inner.sum(), 2)) / nx
+    idx = np.arange(nx * ny).reshape(ny, nx)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel()
+    return v, np.r_[np.c_[a, b, d], np.c_[a, d, c]].astype(np.int64)
+
+
+def spd(n: int = 60, seed: int = 0) -> sp.csr_array:
+    v, f = grid(10, 6, seed=seed)
+    L = cotangent_laplacian(v, f)
+    return (L + sp.eye_array(L.shape[0]) * 1e-2).tocsr()
+
+
+def test_all_backends_installed_here():
+    assert available_backends() == BACKENDS
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_factor_solves_like_spsolve(backend):
+    A = spd()
+    rng = np.random.default_rng(1)
+    b1 = rng.standard_normal(A.shape[0])
+    b3 = rng.standard_normal((A.shape[0], 3))
+    f = Factor(A, backend=backend)
+    assert f.backend == backend and f.shape == A.shape
+    x1 = f.solve(b1)
+    x3 = f.solve(b3)
+    assert x1.shape == b1.shape and x3.shape == b3.shape
+    np.testing.assert_allclose(x1, sla.spsolve(A.tocsc(), b1), rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(x3, sla.spsolve(A.tocsc(), b3), rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(f.solve(b3[:, 1]), x3[:, 1], rtol=1e-12, atol=1e-14)
+    assert backend in repr(f)
+
+
+def test_factor_auto_takes_the_first_backend():
+    assert Factor(spd()).backend == BACKENDS[0]
+    assert Factor(spd(), prefer="solve").backend == linsolve.SOLVE_ORDER[0]
+    assert PinnedSystem(spd(), [0], prefer="solve").factor.backend == "cholespy"
+    with pytest.raises(InvalidInputError, match=r"`prefer` to be one of 'factor', 'solve', got "
+                       r"'speed'\."):
+        Factor(spd(), prefer="speed")
+
+
+def test_factor_accepts_dense_and_fortran_rhs():
+    A = np.array([[4.0, 1.0], [1.0, 3.0]])
+    b = np.asfortranarray(np.array([[1.0, 0.0], [2.0, 1.0]]))
+    for backend in BACKENDS:
+        np.testing.assert_allclose(Factor(A, backend=backend).solve(b), np.linalg.solve(A, b))
+
+
+@pytest.mark.parametrize("backend", ["cholmod", "cholespy"])
+def test_indefinite_matrix_falls_back_to_superlu(backend):
+    A = sp.csr_array(np.array([[1.0, 2.0], [2.0, 1.0]]))
+    f = Factor(A, backend=backend)
+    assert f.backend == "superlu"
+    np.testing.assert_allclose(f.solve(np.array([3.0, 3.0])), [1.0, 1.0])
+
+
+def test_factor_needing_pivoting_uses_pivoting_superlu():
+    A = sp.csr_array(np.array([[0.0, 1.0], [1.0, 0.0]]))
+    np.testing.assert_allclose(Factor(A).solve(np.array([2.0, 5.0])), [5.0, 2.0])
+
+
+@pytest.mark.parametrize("backend", ["auto", "superlu"])
+def test_singular_matrix_is_a_degenerate_input(backend):
+    A = sp.csr_array(np.array([[1.0, -1.0], [-1.0, 1.0]]))
+    with pytest.raises(DegenerateInputError, match=r"`L` to be non-singular, got a singular "
+                       r"2×2 matrix\.") as info:
+        Factor(A, backend=backend, name="L")
+    assert info.value.field == "L"
+
+
+def test_factor_rejects_non_square_and_bad_rhs():
+    with pytest.raises(InvalidInputError, match=r"`A` to be a square \(n, n\) matrix, got shape "
+                       r"\(2, 3\)\."):
+        Factor(np.zeros((2, 3)))
+    f = Factor(np.eye(3))
+    with pytest.raises(InvalidInputError, match=r"`b` to have shape \(3,\) or \(3, k\), got "
+                       r"\(4,\)\."):
+        f.solve(np.ones(4))
+    with pytest.raises(InvalidInputError, match=r"got \(3, 1, 1\)"):
+        f.solve(np.ones((3, 1, 1)))
+
+
+def test_factor_rejects_unknown_backend():
+    with pytest.raises(InvalidInputError, match=r"`backend` to be one of 'auto', 'cholmod', "
+                       r"'cholespy', 'superlu', got 'pardiso'\."):
+        Factor(np.eye(2), backend="pardiso")
+
+
+def test_factor_rejects_uninstalled_backend(monkeypatch):
+    monkeypatch.setattr(linsolve, "available_backends", lambda: ("superlu",))
+    with pytest.raises(InvalidInputError, match=r"installed solver backend \(superlu\), got "
+                       r"'cholmod' \(install cvxopt\)\.") as info:
+        Factor(np.eye(2), backend="cholmod")
+    assert info.value.field == "backend"
+    assert Factor(np.eye(2)).backend == "superlu"
+
+
+def test_empty_factor():
+    f = Factor(sp.csr_array((0, 0)))
+    assert f.solve(np.zeros((0, 2))).shape == (0, 2)
+
+
+# --- PinnedSystem -------------------------------------------------------------------------
+
+
+def test_pinned_path_by_hand():
+    L = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    ps = PinnedSystem(L, [0, 2])
+    assert ps.free.tolist() == [1] and ps.pinned.tolist() == [0, 2]
+    np.testing.assert_allclose(ps.solve([[0.0], [1.0]]), [[0.0], [0.5], [1.0]])
+    np.testing.assert_allclose(ps.solve([0.0, 1.0]), [0.0, 0.5, 1.0])
+    # with a source term: x1 = (b1 + 0 + 1) / 2
+    np.testing.assert_allclose(ps.solve([0.0, 1.0], rhs=[9.0, 3.0, 9.0]), [0.0, 2.0, 1.0])
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_harmonic_interpolation_matches_igl(backend):
+    v, f = grid()
+    v3 = np.c_[v, np.zeros(len(v))]
+    b = boundary_loops(f)[0]
+    rng = np.random.default_rng(2)
+    c = rng.standard_normal((len(b), 2))
+    ours = PinnedSystem(cotangent_laplacian(v, f), b, backend=backend).solve(c)
+    ref = igl.harmonic(v3, f, b.astype(np.int64), c, 1)
+    np.testing.assert_allclose(ours, ref, atol=1e-10)
+    np.testing.assert_array_equal(ours[b], c)                  # pins met exactly
+
+
+def test_cotangent_pinned_system_reproduces_linear_functions():
+    v, f = grid()
+    b = boundary_loops(f)[0]
+    g = v @ np.array([[2.0, -1.0], [0.5, 3.0]]) + 0.25
+    out = PinnedSystem(cotangent_laplacian(v, f), b).solve(g[b])
+    np.testing.assert_allclose(out, g, atol=1e-11)
+
+
+def test_rhs_enters_the_free_rows():
+    v, f = grid(6, 5)
+    L = mesh_laplacian(v, f, "tangent")
+    pins = np.array([0, 7, 29])
+    ps = PinnedSystem(L, pins)
+    rng = np.random.default_rng(0)
+    c, rhs = rng.standard_normal((3, 2)), rng.standard_normal((len(v), 2))
+    x = ps.solve(c, rhs)
+    residual = (L @ x - rhs)[ps.free]
+    np.testing.assert_allclose(residual, 0, atol=1e-10)
+    np.testing.assert_array_equal(x[pins], c)
+
+
+def test_backends_agree():
+    v, f = grid()
+    L = cotangent_laplacian(v, f)
+    pins = [0, 50, 119]
+    c = np.random.default_rng(3).standard_normal((3, 3))
+    sols = [PinnedSystem(L, pins, backend=b).solve(c) for b in BACKENDS]
+    for s in sols[1:]:
+        np.testing.assert_allclose(s, sols[0], atol=1e-10)
+
+
+def test_every_vertex_pinned():
+    L = sp.csr_array([[1.0, -1], [-1, 1]])
+    np.testing.assert_array_equal(PinnedSystem(L, [1, 0]).solve([[3.0], [4.0]]), [[4.0], [3.0]])
+
+
+def test_component_without_pin_names_size_and_vertex():
+    v, f = grid(4, 3)
+    f2 = np.vstack([f, f + len(v)])
+    L = mesh_laplacian(np.vstack([v, v + 5]), f2, "uniform")
+    with pytest.raises(DegenerateInputError, match=r"every connected component to hold at least "
+                       r"one of `handles`, got a component of 12 vertices \(vertex 12 among "
+                       r"them\) without one\.") as info:
+        PinnedSystem(L, [0, 3])
+    assert info.value.field == "handles"
+    assert isinstance(info.value, InvalidInputError)
+
+
+def test_several_components_without_pin_are_counted():
+    L = sp.block_diag([sp.csr_array([[1.0, -1], [-1, 1]])] * 3).tocsr()
+    with pytest.raises(DegenerateInputError, match=r"\(vertex 2 among them\) without one; 2 of the "
+                       r"3 components have none\."):
+        PinnedSystem(L, [1], name="boundary")
+
+
+def test_isolated_vertex_is_named_as_such():
+    L = sp.block_diag([sp.csr_array([[1.0, -1], [-1, 1]]), sp.csr_array((1, 1))]).tocsr()
+    with pytest.raises(DegenerateInputError, match=r"a component of 1 vertex \(vertex 2, isolated: "
+                       r"in no face or edge\) without one\."):
+        PinnedSystem(L, [0])
+
+
+def test_no_pins_at_all():
+    L = sp.csr_array([[1.0, -1], [-1, 1]])
+    with pytest.raises(DegenerateInputError, match=r"a component of 2 vertices"):
+        PinnedSystem(L, np.zeros(0, dtype=int))
+
+
+def test_check_components_off_for_definite_matrices():
+    A = spd()
+    x = PinnedSystem(A, np.zeros(0, dtype=int), check_components=False).solve(
+        np.zeros((0, 1)), rhs=np.ones((A.shape[0], 1)))
+    np.testing.assert_allclose(A @ x, 1.0, atol=1e-10)
+
+
+def test_pinned_system_rejects_bad_pins():
+    L = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    with pytest.raises(InvalidInputError, match=r"`handles` to be unique, got 2 twice \(positions "
+                       r"0 and 2\)\.") as info:
+        PinnedSystem(L, [2, 0, 2])
+    assert info.value.field == "handles"
+    with pytest.raises(InvalidInputError, match=r"`handles` to hold vertex indices below 3, got 3"):
+        PinnedSystem(L, [3])
+    with pytest.raises(InvalidInputError, match=r"`handles` to be a flat list of vertex indices, "
+                       r"got shape \(1, 2\)"):
+        PinnedSystem(L, [[0, 2]])
+    with pytest.raises(InvalidInputError, match=r"`L` to be a square"):
+        PinnedSystem(np.zeros((2, 3)), [0])
+
+
+def test_pinned_solve_rejects_bad_shapes():
+    L = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    ps = PinnedSystem(L, [0, 2])
+    with pytest.raises(InvalidInputError, match=r"values of `handles` to have shape \(2, k\), got "
+                       r"\(3, 1\)\.") as info:
+        ps.solve(np.zeros((3, 1)))
+    assert info.value.field == "handles"
+    with pytest.raises(InvalidInputError, match=r"`rhs` to have shape \(3, 2\), got \(3, 1\)\."):
+        ps.solve(np.zeros((2, 2)), rhs=np.zeros((3, 1)))
+
+
+def test_sphere_with_one_pin_per_component_is_solvable():
+    m = trimesh.creation.icosphere(subdivisions=2)
+    v, f = np.asarray(m.vertices), np.asarray(m.faces, dtype=np.int64)
+    L = cotangent_laplacian(v, f)
+    x = PinnedSystem(L, [5]).solve([[1.0]])
+    np.testing.assert_allclose(x, 1.0, atol=1e-12)          # constant is the harmonic function
