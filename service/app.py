@@ -131,5 +131,19 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
             ref_template="#/components/schemas/{model}")
         schemas["Problem"].pop("$defs", None)
         schemas["FieldError"] = FieldError.model_json_schema()
+        _hoist_defs(doc, schemas)
         app.openapi_schema = doc
     return app.openapi_schema
+
+
+def _hoist_defs(node: Any, schemas: dict[str, Any]) -> None:
+    """Move pydantic's nested ``$defs`` (models inlined through ``openapi_extra``) into
+    ``components/schemas``, where their ``#/components/schemas/...`` references point."""
+    if isinstance(node, dict):
+        for name, schema in node.pop("$defs", {}).items():
+            schemas.setdefault(name, schema)
+        for value in list(node.values()):
+            _hoist_defs(value, schemas)
+    elif isinstance(node, list):
+        for value in node:
+            _hoist_defs(value, schemas)

@@ -19,6 +19,7 @@ Each type is a page the service serves at ``/problems/{slug}``.
 from __future__ import annotations
 
 import html
+import re
 import logging
 from typing import Any
 
@@ -83,6 +84,17 @@ _STATUS_SLUG = {400: "malformed-body", 401: "unauthorized", 404: "not-found",
                 415: "unsupported-media-type", 429: "queue-full", 503: "service-unavailable"}
 
 
+def _allowed_methods(request: Request) -> list[str]:
+    """Every method the API documents on this path. (Starlette's own 405 names only the first
+    matching route's methods, though GET and DELETE of one path are separate routes.)"""
+    methods: set[str] = set()
+    for template, operations in request.app.openapi()["paths"].items():
+        pattern = re.sub(r"\\\{[^/]+?\\\}", "[^/]+", re.escape(template))
+        if re.fullmatch(pattern, request.url.path):
+            methods |= {m.upper() for m in operations}
+    return sorted(methods)
+
+
 def install_handlers(app: FastAPI) -> None:
     """Register one handler per error base class, and the ``/problems/{slug}`` pages."""
 
@@ -112,11 +124,13 @@ def install_handlers(app: FastAPI) -> None:
         detail = exc.detail if isinstance(exc.detail, str) else PROBLEMS[slug].title
         if exc.status_code == 404 and detail == "Not Found":
             detail = f"No resource at {request.url.path}."
+        headers = dict(exc.headers or {})
         if exc.status_code == 405:
             detail = f"{request.method} is not allowed on {request.url.path}."
+            headers["Allow"] = ", ".join(_allowed_methods(request))
         body = problem_body(slug, detail, instance=str(request.url.path),
                             status=exc.status_code)
-        return problem_response(body, dict(exc.headers or {}))
+        return problem_response(body, headers)
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception) -> JSONResponse:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi import APIRouter, Query, Request
+from pydantic import Field
 from service.jsonio import JSONResponse
 from urllib.parse import urlencode
 
@@ -15,6 +16,9 @@ from service.routes.common import failure_response, get_job, owner, state
 
 router = APIRouter(tags=["jobs"])
 
+#: A process id: family and method, as in the catalog (`alignment.rigid`).
+PROCESS_ID = r"^[a-z][a-z0-9_]*\.[a-z][a-z0-9_]*$"
+
 Status = Literal["accepted", "running", "successful", "failed", "dismissed"]
 
 
@@ -24,7 +28,7 @@ async def list_jobs(
     request: Request,
     status: Annotated[list[Status] | None, Query(description="Only jobs in these states.")]
     = None,
-    processID: Annotated[list[str] | None, Query(  # noqa: N803
+    processID: Annotated[list[Annotated[str, Field(pattern=PROCESS_ID)]] | None, Query(  # noqa: N803
         description="Only jobs of these processes.")] = None,
     limit: Annotated[int, Query(ge=1, le=1000, description="Jobs per page.")] = 10,
     offset: Annotated[int, Query(ge=0, le=10**9, description="Jobs to skip.")] = 0,

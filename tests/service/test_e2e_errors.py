@@ -137,8 +137,15 @@ def test_not_found_and_method_not_allowed(http) -> None:
     _problem(http.get("/jobs/not-a-job"), 404, "no-such-job")
     _problem(http.get("/jobs/not-a-job/results"), 404, "no-such-job")
     _problem(http.delete("/jobs/not-a-job"), 404, "no-such-job")
-    _problem(http.delete("/processes"), 405, "method-not-allowed")
-    _problem(http.put(RIGID, json={}), 405, "method-not-allowed")
+    r = http.delete("/processes")
+    _problem(r, 405, "method-not-allowed")
+    assert r.headers["allow"] == "GET"
+    r = http.put(RIGID, json={})
+    _problem(r, 405, "method-not-allowed")
+    assert r.headers["allow"] == "POST"
+    r = http.request("OPTIONS", "/jobs/some-job")  # GET and DELETE are separate routes
+    _problem(r, 405, "method-not-allowed")
+    assert r.headers["allow"] == "DELETE, GET"
 
 
 def test_query_validation(http) -> None:
@@ -146,6 +153,10 @@ def test_query_validation(http) -> None:
     assert _field(body) == "status.0" or _field(body).startswith("status")
     body = _problem(http.get("/jobs", params={"limit": 0}), 422, "invalid-input")
     assert _field(body) == "limit"
+    body = _problem(http.get("/jobs", params={"processID": "true"}), 422, "invalid-input")
+    assert _field(body).startswith("processID")
+    ok = http.get("/jobs", params={"processID": "alignment.rigid"})
+    assert ok.status_code == 200
 
 
 def test_not_acceptable(http) -> None:
