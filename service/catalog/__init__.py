@@ -7,7 +7,11 @@ module here + tests. Routes, OpenAPI, the SDK's process list and the docs derive
 
 from __future__ import annotations
 
-from service.catalog import alignment, assignment  # noqa: F401  (register their entries)
+from service.catalog import (  # noqa: F401  (register their entries)
+    alignment,
+    assignment,
+    deformation,
+)
 from service.catalog.registry import Output, Process, Registry, registry
 
 __all__ = ["Output", "Process", "Registry", "registry", "lookup", "processes"]

@@ -15,6 +15,8 @@ service subscribes to it.
 
 from __future__ import annotations
 
+import dataclasses
+
 import logging
 import math
 import pickle
@@ -106,13 +108,22 @@ class Reporter:
             self.emit("progress", pct, message)
 
 
-def _check_finite(outputs: Mapping[str, Any]) -> None:
+def _check_finite(outputs: Mapping[str, Any], prefix: str = "") -> None:
+    """A numerical failure must not pass as a result: no NaN or Inf in any output, nested
+    results (a Mesh's vertices) and lists of numbers included."""
     for name, value in outputs.items():
-        if isinstance(value, np.ndarray) and value.dtype.kind == "f" and \
+        where = f"{prefix}{name}"
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            _check_finite({f.name: getattr(value, f.name) for f in dataclasses.fields(value)},
+                          f"{where}.")
+        elif isinstance(value, np.ndarray) and value.dtype.kind in "fc" and \
                 not np.isfinite(value).all():
-            raise FloatingPointError(f"output {name!r} holds NaN or Inf")
-        if isinstance(value, float) and not math.isfinite(value):
-            raise FloatingPointError(f"output {name!r} is {value}")
+            raise FloatingPointError(f"output {where!r} holds NaN or Inf")
+        elif isinstance(value, float) and not math.isfinite(value):
+            raise FloatingPointError(f"output {where!r} is {value}")
+        elif isinstance(value, (list, tuple)) and value and \
+                all(isinstance(v, float) for v in value) and not all(map(math.isfinite, value)):
+            raise FloatingPointError(f"output {where!r} holds NaN or Inf")
 
 
 def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, data_dir: str,

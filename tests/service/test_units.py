@@ -371,3 +371,25 @@ def test_results_document_raw() -> None:
     doc = results_document(_OUTPUTS, {"outputs": ["rmse", "reflection"], "response": "raw"})
     assert doc == {"rmse": 0.5, "reflection": False}
     assert results_document({"rmse": 1.0}, {"response": "raw"}) == 1.0
+
+
+# -- results must be finite ------------------------------------------------------------------
+
+
+def test_nan_anywhere_in_a_result_is_refused() -> None:
+    from algorithms.core.mesh import Mesh
+    from service.jobs.runner import _check_finite
+
+    good = Mesh(vertices=np.zeros((3, 3)), faces=np.array([[0, 1, 2]]))
+    _check_finite({"mesh": good, "energy": [1.0, 0.5], "rmse": 0.0, "pairs": np.ones((2, 2), int)})
+    bad_vertices = np.zeros((3, 3))
+    bad_vertices[1, 2] = np.nan
+    cases = [
+        ({"mesh": Mesh(vertices=bad_vertices, faces=good.faces)}, "'mesh.vertices'"),
+        ({"energy": [1.0, float("inf")]}, "'energy'"),
+        ({"rmse": float("nan")}, "'rmse'"),
+        ({"transform": np.array([[1.0, np.inf]])}, "'transform'"),
+    ]
+    for outputs, name in cases:
+        with pytest.raises(FloatingPointError, match=name):
+            _check_finite(outputs)
