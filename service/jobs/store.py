@@ -13,22 +13,27 @@ Durability rules (what "nothing accepted is lost" rests on):
 * rows still ``accepted`` or ``running`` at start-up are submitted again (at-least-once).
 
 One connection, guarded by a lock, is shared by the event loop and the threads it hands
-heavy writes to. Pickle is only ever read back from files this service wrote itself.
+heavy writes to. Writes sent through :meth:`JobStore.write` are group-committed: the writer
+thread takes every write waiting when it is free and runs them in one transaction, each in
+its own savepoint (one failing leaves the others), so that a burst of jobs costs one fsync
+instead of one each; each caller hears back only after the commit that made its write
+durable. Pickle is only ever read back from files this service wrote itself.
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import functools
 import json
 import os
 import pickle
+import queue
 import sqlite3
 import threading
 import time
 import uuid
-from collections.abc import Callable, Iterable, Mapping
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
@@ -38,6 +43,9 @@ __all__ = ["JobRecord", "JobStore", "ACTIVE", "FINISHED", "write_atomic", "resul
 T = TypeVar("T")
 
 ACTIVE = ("accepted", "running")
+
+#: Most writes group-committed in one transaction.
+MAX_BATCH = 256
 FINISHED = ("successful", "failed", "dismissed")
 
 _SCHEMA = """
@@ -111,6 +119,16 @@ class JobRecord:
         return self.status in ACTIVE
 
 
+def _settle(future: asyncio.Future[Any], outcome: tuple[bool, Any]) -> None:
+    if future.done():  # the awaiting request went away
+        return
+    ok, value = outcome
+    if ok:
+        future.set_result(value)
+    else:
+        future.set_exception(value)
+
+
 def _scoped(owner: str, key: str | None) -> str | None:
     """The stored form of an Idempotency-Key: prefixed by its owner, so that one key's
     clients can neither collide with nor find another's jobs through it."""
@@ -164,7 +182,7 @@ class JobStore:
         path = self.data_dir / "jobs.sqlite3"
         # One connection writes, another reads: in WAL mode readers never wait for a commit's
         # fsync, and the event loop only ever reads.
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()  # a batch's transaction holds it around its writes
         self._db = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
         self._db.execute("PRAGMA journal_mode=WAL")
         self._db.execute(f"PRAGMA synchronous={'FULL' if fsync else 'NORMAL'}")
@@ -175,7 +193,10 @@ class JobStore:
         self._rlock = threading.Lock()
         self._rdb = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
         self._rdb.execute("PRAGMA busy_timeout=5000")
-        self._writer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="morphserve-store")
+        self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
+        self._writer = threading.Thread(target=self._write_loop, name="morphserve-store",
+                                        daemon=True)
+        self._writer.start()
 
     def _migrate(self) -> None:
         """Bring a store written by an earlier version up to the current schema."""
@@ -184,7 +205,8 @@ class JobStore:
             self._db.execute("ALTER TABLE jobs ADD COLUMN owner TEXT NOT NULL DEFAULT ''")
 
     def close(self) -> None:
-        self._writer.shutdown(wait=True)
+        self._queue.put(None)
+        self._writer.join()
         with self._lock:
             self._db.close()
         with self._rlock:
@@ -192,12 +214,87 @@ class JobStore:
 
     def write(self, method: Callable[..., T], /, *args: Any, **kwargs: Any
               ) -> asyncio.Future[T]:
-        """Run a writing ``method`` of this store on its writer thread; await the result.
+        """Run a writing ``method`` of this store on its writer thread; await the result,
+        which arrives once the write is committed.
 
         Writes happen in submission order, off the event loop (a commit waits for its fsync
-        without holding the GIL, so the loop serves other requests meanwhile)."""
-        return asyncio.get_running_loop().run_in_executor(
-            self._writer, functools.partial(method, *args, **kwargs))
+        without holding the GIL, so the loop serves other requests meanwhile), and those
+        waiting together share one commit (see the module's notes)."""
+        loop = asyncio.get_running_loop()
+        future: asyncio.Future[T] = loop.create_future()
+        self._queue.put((functools.partial(method, *args, **kwargs), loop, future))
+        return future
+
+    def _write_loop(self) -> None:
+        while True:
+            first = self._queue.get()
+            if first is None:
+                return
+            batch = [first]
+            stop = False
+            while len(batch) < MAX_BATCH:
+                try:
+                    item = self._queue.get_nowait()
+                except queue.Empty:
+                    break
+                if item is None:
+                    stop = True
+                    break
+                batch.append(item)
+            outcomes = self._run_batch([call for call, _, _ in batch])
+            for (_, loop, future), outcome in zip(batch, outcomes, strict=True):
+                try:
+                    loop.call_soon_threadsafe(_settle, future, outcome)
+                except RuntimeError:  # the loop is closed: nobody is waiting any more
+                    pass
+            if stop:
+                return
+
+    def _run_batch(self, calls: list[Callable[[], Any]]) -> list[tuple[bool, Any]]:
+        """Run the calls in one transaction, each in a savepoint; (ok, value or error)."""
+        if len(calls) == 1:
+            try:
+                return [(True, calls[0]())]
+            except BaseException as exc:  # noqa: BLE001 - handed to the awaiting caller
+                return [(False, exc)]
+        outcomes: list[tuple[bool, Any]] = []
+        with self._lock:
+            try:
+                self._db.execute("BEGIN IMMEDIATE")
+                for call in calls:
+                    try:
+                        with self._atomic():
+                            outcomes.append((True, call()))
+                    except BaseException as exc:  # noqa: BLE001
+                        outcomes.append((False, exc))
+                self._db.execute("COMMIT")
+            except BaseException as exc:  # noqa: BLE001 - the commit failed: nothing is durable
+                if self._db.in_transaction:
+                    self._db.execute("ROLLBACK")
+                return [(False, exc)] * len(calls)
+        return outcomes
+
+    @contextlib.contextmanager
+    def _atomic(self) -> Iterator[None]:
+        """All or nothing: a transaction of its own, or a savepoint inside the current one."""
+        with self._lock:
+            if self._db.in_transaction:
+                self._db.execute("SAVEPOINT atomic")
+                try:
+                    yield
+                except BaseException:
+                    self._db.execute("ROLLBACK TO atomic")
+                    self._db.execute("RELEASE atomic")
+                    raise
+                self._db.execute("RELEASE atomic")
+            else:
+                self._db.execute("BEGIN IMMEDIATE")
+                try:
+                    yield
+                except BaseException:
+                    self._db.execute("ROLLBACK")
+                    raise
+                self._db.execute("COMMIT")
 
     # -- writing -----------------------------------------------------------------------------
     def create(self, *, process: str, inputs: Mapping[str, Any], request: Mapping[str, Any],
@@ -265,23 +362,17 @@ class JobStore:
         (fast-path jobs are not marked running: they take milliseconds)."""
         now = time.time()
         blob = pickle.dumps(dict(outputs), protocol=5) if outputs is not None else None
-        with self._lock:
-            self._db.execute("BEGIN IMMEDIATE")
-            try:
-                cur = self._db.execute(
-                    "UPDATE jobs SET status = ?, message = ?, finished = ?, updated = ?, "
-                    "problem = ?, progress = CASE WHEN ? = 'successful' THEN 100 ELSE progress "
-                    "END, started = COALESCE(started, ?) "
-                    "WHERE id = ? AND status IN ('accepted', 'running')",
-                    (status, message, now, now, json.dumps(dict(problem)) if problem else None,
-                     status, started, job_id))
-                if cur.rowcount and blob is not None:
-                    self._db.execute("INSERT OR REPLACE INTO results (id, outputs) VALUES (?, ?)",
-                                     (job_id, blob))
-                self._db.execute("COMMIT")
-            except BaseException:
-                self._db.execute("ROLLBACK")
-                raise
+        with self._atomic():
+            cur = self._db.execute(
+                "UPDATE jobs SET status = ?, message = ?, finished = ?, updated = ?, "
+                "problem = ?, progress = CASE WHEN ? = 'successful' THEN 100 ELSE progress "
+                "END, started = COALESCE(started, ?) "
+                "WHERE id = ? AND status IN ('accepted', 'running')",
+                (status, message, now, now, json.dumps(dict(problem)) if problem else None,
+                 status, started, job_id))
+            if cur.rowcount and blob is not None:
+                self._db.execute("INSERT OR REPLACE INTO results (id, outputs) VALUES (?, ?)",
+                                 (job_id, blob))
         return cur.rowcount > 0
 
     def requeue(self, job_id: str) -> bool:
@@ -296,7 +387,7 @@ class JobStore:
 
     def delete(self, job_id: str) -> None:
         rec = self.get(job_id)
-        with self._lock:
+        with self._atomic():
             self._db.execute("DELETE FROM results WHERE id = ?", (job_id,))
             self._db.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
         if rec is not None and rec.inputs_file:
