@@ -137,7 +137,6 @@ registry.add(Process(
     result=LaplacianResult,
     reference="Lipman, Y., Sorkine, O., Cohen-Or, D., Levin, D., Rössl, C., Seidel, H.-P. "
     "(2004). Differential coordinates for interactive mesh editing. SMI 2004, 181–190.",
-    fast_path=True,
     keywords=("laplacian coordinates", "mesh editing", "handles", "linear"),
 ))
 

@@ -1,0 +1,432 @@
+"""Inputs shared by the layout methods: graphs given by their edges, and distance matrices
+(full, with missing entries, or as a list of known pairs).
+
+Every checker takes the input's ``name`` and raises
+:class:`~algorithms.core.errors.InvalidInputError` naming it (``graph.edges``,
+``distances``) with the message style of :mod:`algorithms.core.validation`. Structural
+problems that make a layout undetermined (a point with no known distance, known distances
+that split the points into unrelated groups) raise
+:class:`~algorithms.core.errors.DegenerateInputError`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components, shortest_path
+
+from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.mesh import Mesh, as_mesh
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_indices, as_int, as_points, as_weights
+
+__all__ = [
+    "Graph",
+    "as_graph",
+    "as_layout_mesh",
+    "as_distance_matrix",
+    "distance_pairs_matrix",
+    "check_dense_size",
+    "check_connected",
+    "graph_distances",
+    "resolve_distances",
+    "MAX_DENSE_POINTS",
+]
+
+#: The most points a dense method (``mds``, ``stress``) accepts: it holds a few ``n×n``
+#: float64 matrices (4,000 points: 128 MB each).
+MAX_DENSE_POINTS = 4_000
+
+
+@dataclass(frozen=True, eq=False)
+class Graph:
+    """A graph on ``n_nodes`` nodes given by its edges.
+
+    Build one with :func:`as_graph`, which checks it; the constructor does not.
+
+    Attributes
+    ----------
+    n_nodes : int
+        Number of nodes, numbered ``0 .. n_nodes - 1``.
+    edges : (e, 2) int array
+        One row ``(i, j)`` per edge, in the order and orientation given (``layout.poisson``
+        matches its vectors to ``p_i - p_j`` of each row).
+    weights : (e,) float array or None
+        One non-negative number per edge, or ``None`` for all ones. Spring stiffness in
+        ``layout.laplacian`` and ``layout.poisson``; edge length in ``layout.stress``.
+    """
+
+    n_nodes: int
+    edges: IntArray
+    weights: FloatArray | None = None
+
+    def __repr__(self) -> str:
+        return f"Graph(n_nodes={self.n_nodes}, n_edges={self.edges.shape[0]})"
+
+
+def _fmt_shape(shape: tuple[int, ...]) -> str:
+    return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def as_graph(graph: Any, *, name: str = "graph", max_nodes: int | None = None,
+             positive_weights: bool = False) -> Graph:
+    """Check a graph and return it as a :class:`Graph`.
+
+    Parameters
+    ----------
+    graph : Graph or mapping
+        A :class:`Graph`, or a mapping with keys ``"nodes"`` (the node count, an integer
+        ``>= 1``), ``"edges"`` (``(e, 2)`` node indices) and optionally ``"weights"``
+        (``(e,)`` non-negative numbers), as JSON delivers it.
+    name : str, default "graph"
+        Errors name ``{name}.nodes``, ``{name}.edges`` or ``{name}.weights``.
+    max_nodes : int, optional
+        Most nodes accepted (the service's size limit).
+    positive_weights : bool, default False
+        Demand weights ``> 0`` (edge lengths) instead of ``>= 0``.
+
+    Raises
+    ------
+    InvalidInputError
+        Not such a mapping, a node count that is not a positive integer, edges not ``(e, 2)``
+        integers in ``[0, nodes)``, an edge joining a node to itself, weights not one
+        finite non-negative (positive) number per edge.
+    """
+    nname, ename, wname = f"{name}.nodes", f"{name}.edges", f"{name}.weights"
+    if isinstance(graph, Graph):
+        nodes, edges, weights = graph.n_nodes, graph.edges, graph.weights
+    elif isinstance(graph, Mapping):
+        missing = [k for k in ("nodes", "edges") if k not in graph]
+        extra = sorted(str(k) for k in graph if k not in ("nodes", "edges", "weights"))
+        if missing or extra:
+            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
+                    else f"unknown key {', '.join(repr(k) for k in extra)}")
+            raise InvalidInputError(
+                f"Expected `{name}` to be an object with keys 'nodes', 'edges' and optionally "
+                f"'weights', got {what}.", field=name)
+        nodes, edges, weights = graph["nodes"], graph["edges"], graph.get("weights")
+    else:
+        raise InvalidInputError(
+            f"Expected `{name}` to be an object with keys 'nodes', 'edges' and optionally "
+            f"'weights', got {type(graph).__name__}.", field=name)
+    n = as_int(nodes, name=nname, minimum=1, maximum=max_nodes,
+               reason="the service's limit" if max_nodes is not None else "")
+    try:
+        shape = np.shape(edges)
+    except (ValueError, TypeError):
+        shape = None
+    if shape is not None and not (len(shape) == 2 and shape[1] == 2) and shape != (0,):
+        raise InvalidInputError(
+            f"Expected `{ename}` to be an (e, 2) array of node indices, got shape "
+            f"{_fmt_shape(shape)}.", field=ename)
+    e = as_indices(edges, n, name=ename, what="node indices").reshape(-1, 2)
+    loops = e[:, 0] == e[:, 1]
+    if loops.any():
+        row = int(np.argmax(loops))
+        raise InvalidInputError(
+            f"Expected `{ename}` to join two distinct nodes per edge, got {e[row].tolist()} "
+            f"at row {row}.", field=ename)
+    w = None
+    if weights is not None:
+        try:
+            wshape = np.shape(weights)
+        except (ValueError, TypeError):
+            wshape = None
+        if wshape is not None and len(wshape) != 1:
+            raise InvalidInputError(
+                f"Expected `{wname}` to be a flat list of one number per edge, got shape "
+                f"{_fmt_shape(wshape)}.", field=wname)
+        if e.shape[0] == 0 and wshape == (0,):
+            w = np.zeros(0)
+        else:
+            w = as_weights(weights, e.shape[0], name=wname)
+        if positive_weights and (w <= 0).any():
+            row = int(np.argmax(w <= 0))
+            raise InvalidInputError(
+                f"Expected `{wname}` to be positive (edge lengths), got {float(w[row])!r} at "
+                f"position {row}.", field=wname)
+    return Graph(n, e, w)
+
+
+def as_layout_mesh(mesh: Any, *, name: str = "mesh") -> Mesh:
+    """A mesh input: a :class:`~algorithms.core.mesh.Mesh`, a mapping with ``vertices``
+    and ``faces``, or a ``(vertices, faces)`` pair; checked by
+    :func:`~algorithms.core.mesh.as_mesh` (a ``Mesh`` is checked again: its constructor
+    does not check)."""
+    if isinstance(mesh, Mesh):
+        return as_mesh(mesh.vertices, mesh.faces, name=name)
+    if isinstance(mesh, Mapping):
+        if set(mesh) != {"vertices", "faces"}:
+            raise InvalidInputError(
+                f"Expected `{name}` to be an object with keys 'vertices' and 'faces', got "
+                f"keys {sorted(str(k) for k in mesh)}.", field=name)
+        return as_mesh(mesh["vertices"], mesh["faces"], name=name)
+    if isinstance(mesh, tuple) and len(mesh) == 2:
+        return as_mesh(mesh[0], mesh[1], name=name)
+    raise InvalidInputError(
+        f"Expected `{name}` to be a mesh (vertices and faces), got {type(mesh).__name__}.",
+        field=name)
+
+
+def check_dense_size(n: int, *, name: str) -> None:
+    """Raise when ``n`` points are too many for a dense ``n×n`` method."""
+    if n > MAX_DENSE_POINTS:
+        raise InvalidInputError(
+            f"Expected `{name}` to describe at most {MAX_DENSE_POINTS:,} points (the method "
+            f"holds dense n×n matrices), got {n:,}.", field=name)
+
+
+def _as_float_matrix(x: Any, *, name: str, expected: str) -> np.ndarray:
+    """A float64 array from nested lists or an array; ``None`` entries become NaN."""
+    try:
+        raw = np.asarray(x)
+    except (ValueError, TypeError):
+        raw = None
+    if raw is None or raw.dtype.kind not in "iufO":
+        what = ("a ragged sequence (rows of different lengths)" if raw is None
+                else f"an array of dtype {'bool' if raw.dtype.kind == 'b' else raw.dtype}")
+        raise InvalidInputError(f"Expected `{name}` to be {expected}, got {what}.", field=name)
+    if raw.dtype.kind == "O":
+        flat = raw.ravel()
+        for k, v in enumerate(flat):
+            if v is not None and (isinstance(v, (bool, np.bool_))
+                                  or not isinstance(v, (int, float, np.integer, np.floating))):
+                index = np.unravel_index(k, raw.shape)
+                where = f"row {index[0]}, column {index[1]}" if raw.ndim == 2 else f"position {k}"
+                raise InvalidInputError(
+                    f"Expected `{name}` to be {expected}, got {v!r} at {where}.", field=name)
+        raw = np.array([np.nan if v is None else v for v in flat],
+                       dtype=np.float64).reshape(raw.shape)
+    return np.array(raw, dtype=np.float64)  # a copy: callers write into it
+
+
+def as_distance_matrix(x: Any, *, name: str = "distances", allow_missing: bool = True,
+                       max_points: int | None = MAX_DENSE_POINTS) -> FloatArray:
+    """Check a matrix of pairwise distances and return it as float64 ``(n, n)``.
+
+    Parameters
+    ----------
+    x : array_like, (n, n)
+        Non-negative finite distances; the diagonal zero (or missing). Missing entries are
+        NaN (``None``/``null`` as JSON delivers them) where ``allow_missing``.
+    name : str, default "distances"
+    allow_missing : bool, default True
+        Accept NaN entries off the diagonal as unknown distances.
+    max_points : int, optional
+        Most points ``n`` accepted.
+
+    Returns
+    -------
+    (n, n) float64 array
+        A new array, symmetric: where both ``x[i, j]`` and ``x[j, i]`` are known their mean,
+        where one is known that one, NaN where neither is (missing); the diagonal zero.
+
+    Raises
+    ------
+    InvalidInputError
+        Not a square matrix of numbers, fewer than 2 points, an infinite or negative entry,
+        a non-zero diagonal entry, a NaN where not allowed (the message names its row and
+        column).
+    DegenerateInputError
+        A point without any known distance, or known distances that split the points into
+        groups with no known distance between them (their relative placement is
+        undetermined).
+    """
+    expected = "a square (n, n) matrix of non-negative distances"
+    d = _as_float_matrix(x, name=name, expected=expected)
+    if d.ndim != 2 or d.shape[0] != d.shape[1]:
+        raise InvalidInputError(
+            f"Expected `{name}` to be {expected}, got shape {_fmt_shape(d.shape)}.",
+            field=name)
+    n = d.shape[0]
+    if n < 2:
+        raise InvalidInputError(f"Expected `{name}` to relate at least 2 points, got {n}.",
+                                field=name)
+    if max_points is not None and n > max_points:
+        check_dense_size(n, name=name)
+    _check_entries(d, name=name, allow_missing=allow_missing)
+    diag = np.diagonal(d).copy()
+    off = np.isfinite(diag) & (diag != 0)
+    if off.any():
+        i = int(np.argmax(off))
+        raise InvalidInputError(
+            f"Expected the diagonal of `{name}` to be zero (a point's distance to itself), got "
+            f"{float(diag[i])!r} at row {i}, column {i}.", field=name)
+    np.fill_diagonal(d, 0.0)
+    known = ~np.isnan(d)
+    if not known.all():
+        both = known & known.T
+        d = np.where(both, 0.5 * (d + d.T), np.where(known, d, d.T))
+    else:
+        d = 0.5 * (d + d.T)
+    check_connected(~np.isnan(d), name=name)
+    return d
+
+
+def _check_entries(d: FloatArray, *, name: str, allow_missing: bool) -> None:
+    """Inf, NaN (when not allowed) and negative entries, named by row and column."""
+    nan = np.isnan(d)
+    np.fill_diagonal(nan, False)
+    bad_nan = nan.any() and not allow_missing
+    inf = np.isinf(d)
+    for mask, what in ((inf, "finite numbers"), (nan if bad_nan else None, "finite numbers")):
+        if mask is not None and mask.any():
+            i, j = np.unravel_index(int(np.argmax(mask)), d.shape)
+            value = d[i, j]
+            text = "nan" if np.isnan(value) else ("inf" if value > 0 else "-inf")
+            hint = " (missing distances are not accepted here)" if np.isnan(value) else ""
+            raise InvalidInputError(
+                f"Expected `{name}` to hold {what}{hint}, got {text} at row {i}, column {j}.",
+                field=name)
+    with np.errstate(invalid="ignore"):
+        neg = d < 0
+    if neg.any():
+        i, j = np.unravel_index(int(np.argmax(neg)), d.shape)
+        raise InvalidInputError(
+            f"Expected `{name}` to hold non-negative distances, got {float(d[i, j])!r} at "
+            f"row {i}, column {j}.", field=name)
+
+
+def check_connected(known: np.ndarray, *, name: str) -> None:
+    """Raise unless every point has a known distance and the known pairs connect them all.
+
+    ``known`` is the ``(n, n)`` boolean mask of known distances (the diagonal ignored).
+    """
+    n = known.shape[0]
+    mask = known.copy()
+    np.fill_diagonal(mask, False)
+    lonely = ~mask.any(axis=1)
+    if lonely.any():
+        i = int(np.argmax(lonely))
+        count = int(lonely.sum())
+        more = f" ({count} such points in all)" if count > 1 else ""
+        raise DegenerateInputError(
+            f"Expected every point of `{name}` to have at least one known distance, got none "
+            f"for point {i}{more}; its position is undetermined.", field=name)
+    count, labels = connected_components(sp.csr_array(mask), directed=False)
+    if count > 1:
+        sizes = np.bincount(labels)
+        other = int(np.argmax(labels != labels[0]))
+        raise DegenerateInputError(
+            f"Expected the known distances of `{name}` to connect all points, got {count} "
+            f"groups with no known distance between them (point 0 in a group of "
+            f"{int(sizes[labels[0]])}, point {other} in one of {int(sizes[labels[other]])}); "
+            "their relative placement is undetermined.", field=name)
+
+
+def distance_pairs_matrix(pairs: Any, n_points: Any = None, *, name: str = "distance_pairs",
+                          n_name: str = "n_points",
+                          max_points: int | None = MAX_DENSE_POINTS) -> FloatArray:
+    """The distance matrix (NaN where unknown) described by a list of known pairs.
+
+    Parameters
+    ----------
+    pairs : array_like, (m, 3)
+        Rows ``(i, j, d)``: points ``i != j`` (integers) are ``d >= 0`` apart. A pair given
+        twice (either order) takes the mean of its distances.
+    n_points : int, optional
+        The number of points; by default one more than the largest index listed.
+
+    Returns
+    -------
+    (n, n) float64 array
+        Checked as :func:`as_distance_matrix` does (every point related, all connected).
+
+    Raises
+    ------
+    InvalidInputError
+        Not an ``(m, 3)`` array of finite numbers, non-integral or out-of-range indices, a
+        pair of a point with itself, a negative distance, ``n_points`` not an integer >= 2.
+    DegenerateInputError
+        As :func:`as_distance_matrix`.
+    """
+    arr = as_points(pairs, name=name, dim=3, min_points=1)
+    idx = arr[:, :2]
+    if n_points is None:
+        n = int(idx.max()) + 1 if np.all(np.isfinite(idx)) else 0
+        n = max(n, 2)
+    else:
+        n = as_int(n_points, name=n_name, minimum=2)
+    if max_points is not None and n > max_points:
+        check_dense_size(n, name=n_name if n_points is not None else name)
+    ij = as_indices(idx, n, name=name, what=f"point indices (columns 0 and 1) below {n}"
+                    if n_points is not None else "point indices")
+    same = ij[:, 0] == ij[:, 1]
+    if same.any():
+        row = int(np.argmax(same))
+        raise InvalidInputError(
+            f"Expected `{name}` to pair two distinct points per row, got point "
+            f"{int(ij[row, 0])} with itself at row {row}.", field=name)
+    dist = arr[:, 2]
+    neg = dist < 0
+    if neg.any():
+        row = int(np.argmax(neg))
+        raise InvalidInputError(
+            f"Expected `{name}` to hold non-negative distances (column 2), got "
+            f"{float(dist[row])!r} at row {row}.", field=name)
+    lo, hi = np.minimum(ij[:, 0], ij[:, 1]), np.maximum(ij[:, 0], ij[:, 1])
+    keys, inverse = np.unique(lo * n + hi, return_inverse=True)
+    mean = np.bincount(inverse, weights=dist) / np.bincount(inverse)
+    d = np.full((n, n), np.nan)
+    d[keys // n, keys % n] = mean
+    d[keys % n, keys // n] = mean
+    np.fill_diagonal(d, 0.0)
+    check_connected(~np.isnan(d), name=name)
+    return d
+
+
+def graph_distances(graph: Any, *, name: str = "graph") -> FloatArray:
+    """All shortest-path lengths of a connected graph (``graph.weights`` are edge lengths,
+    default 1; of repeated edges the shortest counts)."""
+    g = as_graph(graph, name=name, max_nodes=MAX_DENSE_POINTS, positive_weights=True)
+    n = g.n_nodes
+    if n < 2:
+        raise InvalidInputError(f"Expected `{name}.nodes` to be at least 2, got {n}.",
+                                field=f"{name}.nodes")
+    if g.edges.shape[0] == 0:
+        raise DegenerateInputError(
+            f"Expected `{name}` to be connected, got no edges; the distances between its "
+            f"{n} nodes are undetermined.", field=name)
+    lo = np.minimum(g.edges[:, 0], g.edges[:, 1])
+    hi = np.maximum(g.edges[:, 0], g.edges[:, 1])
+    w = np.ones(lo.shape[0]) if g.weights is None else g.weights
+    order = np.lexsort((w, lo * n + hi))
+    keys = (lo * n + hi)[order]
+    first = np.concatenate([[True], keys[1:] != keys[:-1]])
+    keys, w = keys[first], w[order][first]
+    adj = sp.csr_array((w, (keys // n, keys % n)), shape=(n, n))
+    dist = shortest_path(adj, directed=False, unweighted=g.weights is None)
+    if np.isinf(dist).any():
+        count, labels = connected_components(adj, directed=False)
+        other = int(np.argmax(labels != labels[0]))
+        raise DegenerateInputError(
+            f"Expected `{name}` to be connected, got {count} components (node 0 and node "
+            f"{other} are not joined by any path); the distances between them are "
+            "undetermined.", field=name)
+    return np.ascontiguousarray(dist)
+
+
+def resolve_distances(distances: Any, distance_pairs: Any, n_points: Any, graph: Any
+                      ) -> tuple[FloatArray, str]:
+    """The checked ``(n, n)`` distance matrix (NaN where unknown) from exactly one of the
+    three ways to give it, and the name of the input it came from."""
+    given = [k for k, v in (("distances", distances), ("distance_pairs", distance_pairs),
+                            ("graph", graph)) if v is not None]
+    if len(given) != 1:
+        got = "none" if not given else " and ".join(f"`{g}`" for g in given)
+        raise InvalidInputError(
+            "Expected exactly one of `distances`, `distance_pairs` or `graph`, got "
+            f"{got}.", field=given[1] if len(given) > 1 else "distances")
+    if n_points is not None and distance_pairs is None:
+        raise InvalidInputError(
+            "Expected `n_points` only together with `distance_pairs` (the other inputs "
+            f"fix the number of points), got it with `{given[0]}`.", field="n_points")
+    if distances is not None:
+        return as_distance_matrix(distances, name="distances"), "distances"
+    if distance_pairs is not None:
+        return distance_pairs_matrix(distance_pairs, n_points), "distance_pairs"
+    return graph_distances(graph), "graph"

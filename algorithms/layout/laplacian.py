@@ -1,0 +1,263 @@
+r"""Laplacian (spring) layout of a mesh or graph with pinned vertices; the Tutte embedding
+when a mesh's boundary is pinned to a convex polygon."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.graphs import edge_graph
+from algorithms.core.laplacian import laplacian as laplacian_of
+from algorithms.core.laplacian import mesh_laplacian
+from algorithms.core.linsolve import PinnedSystem
+from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_handles, boundary_loops
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_choice
+from algorithms.layout._inputs import Graph, as_graph, as_layout_mesh
+
+__all__ = ["LaplacianLayoutResult", "laplacian", "WEIGHTINGS", "SPACINGS", "face_orientation"]
+
+#: The accepted values of ``weighting`` and ``boundary_spacing``.
+WEIGHTINGS = ("uniform", "cotangent", "tangent")
+SPACINGS = ("arc_length", "uniform")
+
+
+@dataclass(frozen=True, eq=False)
+class LaplacianLayoutResult:
+    """Positions minimising the spring energy with some vertices pinned.
+
+    Attributes
+    ----------
+    positions : (n, k) float array
+        One row per vertex (node); pinned rows equal their pinned positions exactly.
+    pinned : (p,) int array
+        The pinned vertices: the given pins, or the boundary loop pinned to the circle in
+        its order.
+    energy : float
+        The spring energy :math:`\\sum_{(i,j)} w_{ij} \\lVert p_i - p_j \\rVert^2` of the
+        layout, each edge once.
+    flipped_faces : int
+        For a mesh laid out in 2-D: faces whose orientation is opposite to that of the
+        layout as a whole (signed area of the other sign than the sum of all). 0 for a
+        graph or a layout in other dimensions.
+    degenerate_faces : int
+        For a mesh laid out in 2-D: faces collapsed to (near) zero area, doubled area at
+        most 1e-12 times the squared longest edge. 0 for a graph or other dimensions.
+    """
+
+    positions: FloatArray
+    pinned: IntArray
+    energy: float
+    flipped_faces: int
+    degenerate_faces: int
+
+
+def laplacian(
+    mesh: Any = None,
+    *,
+    graph: Any = None,
+    pins: Any = None,
+    weighting: str = "uniform",
+    boundary_spacing: str = "arc_length",
+) -> LaplacianLayoutResult:
+    r"""Place the vertices of a mesh or graph where the springs on its edges balance, some
+    vertices pinned (Tutte's embedding when a mesh's boundary is pinned to a convex
+    polygon).
+
+    Minimises the spring energy with the pinned positions :math:`c` fixed,
+
+    .. math::
+
+        \min_{p} \sum_{(i,j) \in E} w_{ij} \lVert p_i - p_j \rVert^2
+        \quad\text{s.t.}\quad p_P = c
+        \qquad\Longleftrightarrow\qquad L_{00}\, x = -L_{01}\, c,
+
+    one solve of the free block of :math:`L = D - W` per coordinate (one factorization):
+    every free vertex lands at the weighted average of its neighbours.
+
+    Without ``pins``, a mesh's longest boundary loop is pinned to the unit circle in its
+    order (counter-clockwise for counter-clockwise faces), its vertices spaced by the
+    lengths of the boundary edges (``boundary_spacing="arc_length"``, as
+    ``igl.map_vertices_to_circle``) or evenly (``"uniform"``); this is Tutte's embedding,
+    a parameterization of a disk-like surface. By Tutte's spring theorem (Floater's
+    generalisation to positive weights), non-negative weights and a boundary on a convex
+    polygon give a layout in which no face flips.
+
+    Parameters
+    ----------
+    mesh : Mesh or mapping, optional
+        A triangle mesh, ``{"vertices": (n, 2|3), "faces": (m, 3)}``. Exactly one of
+        ``mesh`` and ``graph``.
+    graph : Graph or mapping, optional
+        A graph ``{"nodes": n, "edges": (e, 2), "weights": (e,)?}``; its weights (default
+        1, non-negative) are the spring stiffnesses. A repeated edge counts once (its first
+        weight). Needs ``pins``.
+    pins : Handles or mapping, optional
+        ``{"indices": (p,), "positions": (p, k)}``: the pinned vertices and their
+        positions, in any dimension ``k``. Each connected component needs one. Default for
+        a mesh: its boundary on the unit circle (then ``k = 2``).
+    weighting : {"uniform", "cotangent", "tangent"}, default "uniform"
+        Mesh edge weights: 1 (Tutte's barycentric map), cotangent
+        :math:`\tfrac12(\cot\alpha + \cot\beta)` (harmonic; negative across obtuse angles,
+        so faces may flip) or tangent / mean value :math:`\sum \tan(\theta/2) / \lVert p_i
+        - p_j \rVert` (Floater's, never negative: no flips). A graph takes only
+        ``"uniform"`` (its own weights).
+    boundary_spacing : {"arc_length", "uniform"}, default "arc_length"
+        How the default boundary is spread over the circle.
+
+    Returns
+    -------
+    LaplacianLayoutResult
+        ``positions``, ``pinned``, ``energy``, ``flipped_faces``, ``degenerate_faces``.
+
+    Raises
+    ------
+    InvalidInputError
+        Not exactly one of ``mesh`` and ``graph``; a malformed mesh, graph (edges out of
+        range, self-loops, negative weights) or pins (indices out of range or repeated,
+        positions not one finite row per index); ``weighting`` other than ``"uniform"``
+        with a graph; an unknown option.
+    DegenerateInputError
+        Zero-area faces; a graph without ``pins``; a closed mesh without ``pins`` (no
+        boundary to pin); a connected component without a pin (field ``pins``, or
+        ``mesh`` when the boundary was pinned by default); a free block that is singular.
+
+    Notes
+    -----
+    The seed document derives the pinned solve (``L₀₀x = −L₀₁c``, "each connected
+    component pinned at least once") and states Tutte's theorem: pins on a convex polygon
+    keep the mesh a mesh, no point outside the polygon, no crossing edge, no flipped
+    angle. That needs non-negative weights: the cotangent weights fail it on meshes with
+    obtuse triangles (non-Delaunay), which the seed also notes; the tangent (incentre)
+    weights it asks about ("can Lcot be replaced by the incentre formula Ltan?") are
+    Floater's mean value weights and never negative, so they keep the guarantee.
+    A boundary pinned to a *non-convex* polygon (given ``pins``) may flip faces: the count
+    is reported, not raised.
+
+    Only the longest boundary loop is pinned by default; a mesh with holes keeps its
+    holes free (their faces may then overlap: give ``pins`` for every loop).
+
+    References
+    ----------
+    .. [1] W. T. Tutte, "How to draw a graph", Proc. London Math. Soc. 13 (1963).
+    .. [2] M. S. Floater, "Parametrization and smooth approximation of surface
+       triangulations", CAGD 14 (1997); "Mean value coordinates", CAGD 20 (2003).
+    .. [3] The seed document, sections "relative positions as fixed as possible" and
+       "planar graph property (Tutte's spring theorem)".
+
+    Examples
+    --------
+    A square with a centre vertex: the boundary goes to the circle, the centre to its
+    middle.
+
+    >>> from algorithms.layout import laplacian
+    >>> v = [[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]]
+    >>> f = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    >>> res = laplacian((v, f))
+    >>> (res.positions[4].round(12) + 0.0).tolist(), res.flipped_faces
+    ([0.0, 0.0], 0)
+    """
+    weighting = as_choice(weighting, WEIGHTINGS, name="weighting")
+    spacing = as_choice(boundary_spacing, SPACINGS, name="boundary_spacing")
+    if (mesh is None) == (graph is None):
+        raise InvalidInputError(
+            "Expected exactly one of `mesh` and `graph`, got "
+            f"{'both' if mesh is not None else 'neither'}.",
+            field="graph" if mesh is not None else "mesh")
+    faces: IntArray | None = None
+    if mesh is not None:
+        m = as_layout_mesh(mesh)
+        n, faces = m.n_vertices, m.faces
+        lap = mesh_laplacian(m.vertices, m.faces, kind=weighting)
+    else:
+        g = as_graph(graph)
+        if weighting != "uniform":
+            raise InvalidInputError(
+                f"Expected `weighting` to be 'uniform' with a `graph` (its own weights are "
+                f"the springs; {weighting} weights need a mesh), got {weighting!r}.",
+                field="weighting")
+        n = g.n_nodes
+        lap = graph_laplacian(g)
+    if pins is not None:
+        h = as_handles(pins, n, name="pins")
+        pinned, values, pin_name = h.indices, h.positions, "pins"
+    elif mesh is not None:
+        pinned, values = circle_boundary(m, spacing)
+        pin_name = "mesh"
+    else:
+        raise DegenerateInputError(
+            "Expected `pins` with a `graph` (a graph has no boundary to pin by default), got "
+            "none.", field="pins")
+    system = PinnedSystem(lap, pinned, name=pin_name)
+    x = system.solve(values)
+    energy = float(np.einsum("ij,ij->", x, lap @ x))
+    flipped = degenerate = 0
+    if faces is not None and x.shape[1] == 2:
+        flipped, degenerate = face_orientation(x, faces)
+    return LaplacianLayoutResult(
+        positions=x,
+        pinned=pinned,
+        energy=max(energy, 0.0),
+        flipped_faces=flipped,
+        degenerate_faces=degenerate,
+    )
+
+
+def graph_laplacian(g: Graph) -> sp.csr_array:
+    """``L = D - W`` of a checked graph (edges of zero weight are no edges)."""
+    if g.weights is None:
+        w = edge_graph(g.n_nodes, g.edges)
+    else:
+        w = edge_graph(g.n_nodes, g.edges, g.weights)
+        w.eliminate_zeros()
+    return laplacian_of(w)
+
+
+def circle_boundary(mesh: Mesh, spacing: str) -> tuple[IntArray, FloatArray]:
+    """The longest boundary loop and its positions on the unit circle, counter-clockwise
+    in the loop's order."""
+    loops = boundary_loops(mesh.faces)
+    if not loops:
+        raise DegenerateInputError(
+            "Expected `mesh` to have a boundary to pin to the circle, got a closed mesh; "
+            "give `pins`.", field="mesh")
+    loop = loops[0]
+    _, first = np.unique(loop, return_index=True)   # a vertex met twice keeps its first visit
+    loop = loop[np.sort(first)]
+    if loop.shape[0] < 3:
+        raise DegenerateInputError(
+            f"Expected the boundary of `mesh` to have at least 3 vertices, got "
+            f"{loop.shape[0]}; give `pins`.", field="mesh")
+    if spacing == "uniform":
+        t = np.arange(loop.shape[0]) / loop.shape[0]
+    else:
+        p = mesh.vertices[loop]
+        seg = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+        cum = np.concatenate([[0.0], np.cumsum(seg)[:-1]])
+        t = cum / seg.sum()
+    angle = 2.0 * math.pi * t
+    return loop.astype(np.int64), np.stack([np.cos(angle), np.sin(angle)], axis=1)
+
+
+def face_orientation(x: FloatArray, faces: IntArray) -> tuple[int, int]:
+    """Counts of flipped and of degenerate faces of a planar layout ``x`` (n, 2).
+
+    A face is degenerate when its doubled area is at most ``DEGENERATE_RTOL`` times its
+    squared longest edge (or all its corners coincide); flipped when, not degenerate, its
+    signed area has the sign opposite to the sum of all signed areas.
+    """
+    p0, p1, p2 = x[faces[:, 0]], x[faces[:, 1]], x[faces[:, 2]]
+    a, b = p1 - p0, p2 - p0
+    doubled = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    c = p2 - p1
+    longest = np.maximum(np.maximum(np.einsum("ij,ij->i", a, a), np.einsum("ij,ij->i", b, b)),
+                         np.einsum("ij,ij->i", c, c))
+    degenerate = np.abs(doubled) <= DEGENERATE_RTOL * longest
+    sign = 1.0 if doubled.sum() >= 0 else -1.0
+    flipped = (doubled * sign < 0) & ~degenerate
+    return int(np.count_nonzero(flipped)), int(np.count_nonzero(degenerate))
