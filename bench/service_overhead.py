@@ -3,7 +3,7 @@
 Prints one table: p50/p95 latency of `POST /processes/alignment.rigid/execution` with
 `Prefer: wait=10` (the body pre-encoded, so the client's JSON encoder is not measured) on the
 fast path and through Dask, the same alignment called in-process, their ratio, the rotation
-error of each, and jobs/s with 16 concurrent clients. Goal (issue #2): p50 <= 15 ms and
+error of each, and jobs/s with 16 concurrent clients (keep-alive, bench/_http.py). Goal (issue #2): p50 <= 15 ms and
 >= 150 jobs/s. The machine is shared and noisy: each figure is the median of --repeats runs.
 
     python bench/service_overhead.py [--requests 200] [--repeats 3] [--clients 16]
@@ -12,10 +12,10 @@ error of each, and jobs/s with 16 concurrent clients. Goal (issue #2): p50 <= 15
 from __future__ import annotations
 
 import argparse
+import asyncio
 import statistics
 import sys
 import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -24,8 +24,9 @@ import orjson
 from scipy.spatial.transform import Rotation
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT)]  # the packages first: tests/algorithms must not shadow algorithms
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]  # first: tests/algorithms must not shadow
 sys.path.append(str(ROOT / "tests"))
+from _http import Connection, request_bytes  # noqa: E402
 from live import LiveServer  # noqa: E402
 
 from algorithms.alignment import rigid  # noqa: E402
@@ -63,25 +64,27 @@ def latency(url: str, body: bytes, n: int) -> tuple[list[float], float]:
 
 
 def throughput(url: str, body: bytes, clients: int, per_client: int) -> float:
-    import httpx
+    """Jobs/s with ``clients`` concurrent keep-alive connections, each sending ``per_client``
+    requests back to back. The clients are the light asyncio client of bench/_http.py, so
+    that the figure is the service's, not a Python HTTP library's sharing the two cores."""
+    raw = request_bytes("POST", url + PATH, body,
+                        {"Prefer": "wait=30", "Content-Type": "application/json"})
+    errors: list[bytes] = []
 
-    headers = {"Prefer": "wait=30", "Content-Type": "application/json"}
-    errors: list[str] = []
+    async def work() -> None:
+        conn = Connection(url)
+        for _ in range(per_client):
+            status, _, answer = await conn.send(raw)
+            if status != 200:
+                errors.append(answer)
+        await conn.close()
 
-    def work() -> None:
-        with httpx.Client(base_url=url, timeout=60) as c:
-            for _ in range(per_client):
-                r = c.post(PATH, content=body, headers=headers)
-                if r.status_code != 200:
-                    errors.append(r.text)
+    async def run() -> float:
+        t = time.perf_counter()
+        await asyncio.gather(*(work() for _ in range(clients)))
+        return time.perf_counter() - t
 
-    threads = [threading.Thread(target=work) for _ in range(clients)]
-    t = time.perf_counter()
-    for th in threads:
-        th.start()
-    for th in threads:
-        th.join()
-    wall = time.perf_counter() - t
+    wall = asyncio.run(run())
     assert not errors, errors[:3]
     return clients * per_client / wall
 
