@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 from pathlib import Path
+from typing import Annotated
 
 from pydantic import Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
@@ -32,6 +33,12 @@ class Settings(BaseSettings):
     )
     job_time_limit: float = Field(
         600.0, gt=0, description="Default wall-clock limit of one job, in seconds."
+    )
+    family_time_limits: dict[str, Annotated[float, Field(gt=0)]] = Field(
+        default_factory=dict,
+        description="Time limits per process family, replacing job_time_limit for it, as "
+        'JSON: {"registration": 3600, "alignment": 60}. A request\'s timeLimit may only '
+        "lower the limit.",
     )
     max_request_bytes: int = Field(
         256 * 2**20, ge=1024, description="Largest request body accepted (413 above)."

@@ -99,7 +99,9 @@ def _parse_execute(process: Process, raw: bytes, st: State) -> dict[str, Any]:
     response = body.get("response", "document")
     if response not in ("document", "raw"):
         raise _invalid("response", f"Expected 'document' or 'raw', got {response!r}.")
-    time_limit = min(st.settings.job_time_limit, process.time_limit or math.inf)
+    family_limit = st.settings.family_time_limits.get(process.family,
+                                                      st.settings.job_time_limit)
+    time_limit = min(family_limit, process.time_limit or math.inf)
     if "timeLimit" in body:
         asked = body["timeLimit"]
         if isinstance(asked, bool) or not isinstance(asked, (int, float)) or \
