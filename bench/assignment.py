@@ -19,11 +19,8 @@ asserts.
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
-import time
 import warnings
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +30,8 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import cdist
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT)]  # the packages first: tests/algorithms must not shadow algorithms
+# the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from algorithms.assignment import (  # noqa: E402
     bipartite,
@@ -41,18 +39,9 @@ from algorithms.assignment import (  # noqa: E402
     nearest,
     optimal_transport,
 )
+from _common import print_ratio_table, timed  # noqa: E402
 
 import ot  # POT: the optimal transport peer (and the network simplex our exact path calls)
-
-
-def timed(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
-    """Median wall time of ``repeats`` calls, and the last call's value."""
-    times, value = [], None
-    for _ in range(repeats):
-        t = time.perf_counter()
-        value = fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times), value
 
 
 def points(seed: int, n: int, d: int) -> np.ndarray:
@@ -158,18 +147,7 @@ def main() -> None:
         case_nearest(1_000_000 // k, 100_000 // k, r),
         case_distance(200_000 // k, r),
     ]
-    header = ("case", "ours (s)", "peer (s)", "ratio", "ours", "peer")
-    table = [header] + [
-        (name, f"{ours:.3f}", f"{peer:.3f}", f"{ours / peer:.2f}", mine, theirs)
-        for name, ours, peer, mine, theirs in rows
-    ]
-    widths = [max(len(row[i]) for row in table) for i in range(len(header))]
-    print(f"median of {r} runs; ratio = ours / peer (below 1: we are faster)")
-    for i, row in enumerate(table):
-        print("  ".join(cell.ljust(w) if j in (0, 4, 5) else cell.rjust(w)
-                        for j, (cell, w) in enumerate(zip(row, widths, strict=True))))
-        if i == 0:
-            print("  ".join("-" * w for w in widths))
+    print_ratio_table(rows, r)
 
 
 if __name__ == "__main__":

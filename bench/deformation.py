@@ -28,58 +28,21 @@ A benchmark never asserts.
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT)]  # the packages first: tests/algorithms must not shadow algorithms
+# the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from algorithms.core.laplacian import cotangent_laplacian  # noqa: E402
-from algorithms.core.linsolve import Factor, available_backends  # noqa: E402
 from algorithms.deformation import ArapSolver, biharmonic, harmonic  # noqa: E402
+from _common import backend_timings, print_table, timed_pair, wavy_grid  # noqa: E402
 
 import igl  # noqa: E402  libigl: the peer
-
-
-def timed(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
-    """Median wall time of ``repeats`` calls, and the last call's value."""
-    times, value = [], None
-    for _ in range(repeats):
-        t = time.perf_counter()
-        value = fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times), value
-
-
-def timed_pair(ours: Callable[[], Any], peer: Callable[[], Any], repeats: int
-               ) -> tuple[float, Any, float, Any]:
-    """Median wall times of ``ours`` and ``peer``, called alternately, and the last values."""
-    t_ours, t_peer, a, b = [], [], None, None
-    for _ in range(repeats):
-        t = time.perf_counter()
-        a = ours()
-        t_ours.append(time.perf_counter() - t)
-        t = time.perf_counter()
-        b = peer()
-        t_peer.append(time.perf_counter() - t)
-    return statistics.median(t_ours), a, statistics.median(t_peer), b
-
-
-def wavy_grid(nx: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    x, y = np.meshgrid(np.linspace(0, 1, nx), np.linspace(0, 1, nx))
-    v = np.c_[x.ravel(), y.ravel(), 0.1 * np.sin(6 * x.ravel()) * np.cos(5 * y.ravel())]
-    v[:, :2] += rng.uniform(-0.3, 0.3, (nx * nx, 2)) / nx
-    idx = np.arange(nx * nx).reshape(nx, nx)
-    a, b = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel()
-    c, d = idx[1:, :-1].ravel(), idx[1:, 1:].ravel()
-    return v, np.r_[np.c_[a, b, d], np.c_[a, d, c]].astype(np.int64)
 
 
 def handles(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -96,19 +59,6 @@ def handles(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def diff(ours: np.ndarray, peer: np.ndarray) -> tuple[float, float]:
     d = np.linalg.norm(ours - peer, axis=1)
     return float(d.max()), float(np.sqrt(np.mean(d * d)))
-
-
-def print_table(title: str, header: tuple[str, ...], rows: list[tuple[str, ...]],
-                left: tuple[int, ...] = (0,)) -> None:
-    table = [header, *rows]
-    widths = [max(len(row[i]) for row in table) for i in range(len(header))]
-    print(title)
-    for i, row in enumerate(table):
-        print("  ".join(cell.ljust(w) if j in left else cell.rjust(w)
-                        for j, (cell, w) in enumerate(zip(row, widths, strict=True))))
-        if i == 0:
-            print("  ".join("-" * w for w in widths))
-    print()
 
 
 def row(name: str, ours_t: float, peer_t: float, accuracy: str) -> tuple[str, ...]:
@@ -171,16 +121,9 @@ def main() -> None:
                 rows, left=(0, 4))
 
     # 4. solver backends on ARAP's system
-    lap = cotangent_laplacian(v, f)
-    free = np.setdiff1d(np.arange(len(v)), b)
-    a = lap[free][:, free].tocsc()
-    rhs = np.random.default_rng(1).standard_normal((a.shape[0], 3))
-    brows = []
-    for backend in available_backends():
-        fac_t, fac = timed(lambda backend=backend: Factor(a, backend=backend), r)
-        sol_t, sol = timed(lambda fac=fac: fac.solve(rhs), r)
-        res_norm = np.abs(a @ sol - rhs).max() / np.abs(rhs).max()
-        brows.append((fac.backend, f"{fac_t:.3f}", f"{sol_t * 1e3:.1f}", f"{res_norm:.1e}"))
+    a, timings = backend_timings(v, f, b, r)
+    brows = [(fac.backend, f"{fac_t:.3f}", f"{sol_t * 1e3:.1f}", f"{res_norm:.1e}")
+             for _, fac, fac_t, sol_t, res_norm in timings]
     print_table(f"sparse Cholesky backends on ARAP's free block ({a.shape[0]:,} unknowns, "
                 f"{a.nnz:,} non-zeros; median of {r})",
                 ("backend", "factor (s)", "solve 3 rhs (ms)", "rel. residual"), brows)

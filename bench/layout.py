@@ -25,37 +25,25 @@ A benchmark never asserts.
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
-import time
 import warnings
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from scipy.spatial.distance import cdist
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT)]  # the packages first: tests/algorithms must not shadow algorithms
+# the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from algorithms.core import ConvergenceWarning  # noqa: E402
 from algorithms.layout import laplacian, mds, stress  # noqa: E402
+from _common import print_ratio_table, timed  # noqa: E402
 
 import igl  # noqa: E402
 from sklearn.manifold import ClassicalMDS, smacof  # noqa: E402
 
 warnings.simplefilter("ignore", ConvergenceWarning)
-
-
-def timed(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
-    """Median wall time of ``repeats`` calls, and the last call's value."""
-    times, value = [], None
-    for _ in range(repeats):
-        t = time.perf_counter()
-        value = fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times), value
 
 
 def raw_stress(x: np.ndarray, d: np.ndarray) -> float:
@@ -153,18 +141,7 @@ def main() -> None:
         case_same_stress(d, start, sk_stress, defaults[2], r),
         case_tutte(45 if args.quick else 224, r),
     ]
-    header = ("case", "ours (s)", "peer (s)", "ratio", "ours", "peer")
-    table = [header] + [
-        (name, f"{ours:.3f}", f"{peer:.3f}", f"{ours / peer:.2f}", mine, theirs)
-        for name, ours, peer, mine, theirs in rows
-    ]
-    widths = [max(len(row[i]) for row in table) for i in range(len(header))]
-    print(f"median of {r} runs; ratio = ours / peer (below 1: we are faster)")
-    for i, row in enumerate(table):
-        print("  ".join(cell.ljust(w) if j in (0, 4, 5) else cell.rjust(w)
-                        for j, (cell, w) in enumerate(zip(row, widths, strict=True))))
-        if i == 0:
-            print("  ".join("-" * w for w in widths))
+    print_ratio_table(rows, r)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 """Building blocks shared by every family: errors, validation, progress, types, small dense
-linear algebra, triangle meshes, graphs, Laplacians and sparse solves."""
+linear algebra, triangle meshes, graphs, Laplacians, sparse solves and BLAS thread limits."""
 
 from algorithms.core.errors import (
     Cancelled,
@@ -47,6 +47,7 @@ from algorithms.core.mesh import (
     signed_areas,
 )
 from algorithms.core.progress import Progress, as_progress, no_progress
+from algorithms.core.threads import single_blas_thread
 from algorithms.core.validation import (
     as_bool,
     as_choice,
@@ -76,6 +77,7 @@ __all__ = [
     "Progress",
     "as_progress",
     "no_progress",
+    "single_blas_thread",
     "as_bool",
     "as_choice",
     "as_float",

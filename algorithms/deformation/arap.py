@@ -11,6 +11,7 @@ import scipy.sparse as sp
 
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
 from algorithms.core.laplacian import cotangent_entries, cotangent_laplacian
+from algorithms.core.linalg import RotationFitter
 from algorithms.core.linsolve import BACKENDS, Factor, available_backends
 from algorithms.core.mesh import Handles, Mesh
 from algorithms.core.progress import Progress, as_progress
@@ -24,7 +25,6 @@ from algorithms.deformation._common import (
     read_mesh,
     read_positions,
 )
-from algorithms.deformation._rotations import RotationFitter
 
 __all__ = ["ArapResult", "ArapSolver", "arap", "ENERGIES"]
 
@@ -148,8 +148,9 @@ class ArapSolver:
     sparse covariance scatter matrix ``K`` (``(d n) × n``, on the pattern of the one-ring)
     with :math:`S = K P'` giving every vertex's covariance at once. An iteration is then one
     sparse product for the covariances, the batched rotation fit
-    (:mod:`algorithms.deformation._rotations`: no Python loop over vertices), one sparse
-    product :math:`K^\mathsf{T}` for the right-hand side and one pinned solve with all
+    (:class:`~algorithms.core.linalg.RotationFitter`, the buffered form of
+    :func:`~algorithms.core.linalg.batched_rotations`: no Python loop over vertices), one
+    sparse product :math:`K^\mathsf{T}` for the right-hand side and one pinned solve with all
     coordinates as columns.
     """
 
@@ -396,9 +397,9 @@ def arap(
     :math:`\sum w\lVert e\rVert^2` is not positive keeps its previous scale (initially 1).
 
     The local step's rotations come from Horn's quaternion eigenproblem, solved for all
-    vertices at once (:mod:`algorithms.deformation._rotations`) to ~1e-8 in angle, which
-    leaves the energy within ~1e-16 of its scale of the exact block minimum; libigl's
-    ``arap_solve`` runs the same iterations with a single-precision SVD, and the two agree
+    vertices at once (:func:`~algorithms.core.linalg.batched_rotations`) to rounding, so
+    the local step attains the exact block minimum; libigl's ``arap_solve`` runs the same
+    iterations with a single-precision SVD, and the two agree
     to ~1e-5 of the displacement after 10 iterations. The energy never increasing is what
     guards against the "more iterations, worse result" reports (libigl issue 1539): there,
     the iterations were fine and the energy or the constraints were not what the user

@@ -14,9 +14,9 @@ from scipy.spatial.distance import cdist
 
 from algorithms.core.errors import ConvergenceWarning
 from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.threads import single_blas_thread
 from algorithms.core.validation import as_float, as_int
 from algorithms.layout._inputs import resolve_distances
-from algorithms.layout._threads import single_blas_thread
 
 __all__ = ["MDSResult", "mds", "classical_coordinates", "complete_squared_distances",
            "raw_stress"]

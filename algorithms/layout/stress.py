@@ -14,10 +14,10 @@ from scipy.spatial.distance import cdist
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.core.progress import Progress, as_progress
+from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray, RngLike
 from algorithms.core.validation import as_choice, as_float, as_int, as_points
 from algorithms.layout._inputs import resolve_distances
-from algorithms.layout._threads import single_blas_thread
 from algorithms.layout.mds import classical_coordinates, complete_squared_distances
 
 __all__ = ["StressResult", "stress", "WEIGHTINGS", "INITS"]
