@@ -7,7 +7,9 @@ missing, so a server drifting from the contract fails loudly rather than with a 
 
 from __future__ import annotations
 
+import base64
 import json
+import sys
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
@@ -196,8 +198,24 @@ class Results(Mapping[str, Any]):
         return f"Results({', '.join(parts)})"
 
 
+#: Arrays of at least this many numbers (and empty ones, which keep their shape so) travel
+#: as typed binary arrays: bit-exact, and decoded in milliseconds where JSON lists of a
+#: million points take over 100 ms.
+BINARY_ABOVE = 1024
+
+
+def binary_array(a: np.ndarray) -> dict[str, Any]:
+    """The service's typed binary array object for ``a``: dtype, shape, base64 bytes."""
+    a = np.ascontiguousarray(a)
+    if a.dtype.byteorder == ">" or (a.dtype.byteorder == "=" and sys.byteorder == "big"):
+        a = a.astype(a.dtype.newbyteorder("<"))
+    return {"dtype": a.dtype.newbyteorder("<").str, "shape": list(a.shape),
+            "data": base64.b64encode(a.data).decode("ascii")}
+
+
 def to_json_value(value: Any, name: str = "input") -> Any:
-    """An input value as plain JSON: numpy arrays become lists, numpy scalars numbers.
+    """An input value as plain JSON: numpy arrays become lists (large or empty ones typed
+    binary arrays, see :func:`binary_array`), numpy scalars numbers.
 
     The service validates: NaN and infinity are sent (as the ``NaN``/``Infinity`` tokens
     Python's json writes, which the service reads) so that its :class:`InvalidInput` names the
@@ -209,6 +227,9 @@ def to_json_value(value: Any, name: str = "input") -> Any:
             raise TypeError(
                 f"Expected `{name}` to be an array of numbers, got dtype {value.dtype}."
             )
+        if value.dtype.kind in "iuf" and value.dtype.itemsize <= 8 and \
+                (value.size >= BINARY_ABOVE or value.size == 0) and 1 <= value.ndim <= 4:
+            return binary_array(value)
         return value.tolist()
     if isinstance(value, np.generic):
         value = value.item()

@@ -122,6 +122,12 @@ def _check_finite(arr: np.ndarray, *, name: str) -> None:
         )
 
 
+#: Largest coordinate magnitude :func:`as_points` accepts: squared distances and their sums
+#: over many points must stay finite (1e100 squared is 1e200), and no measured geometry comes
+#: near it; beyond it results would overflow to Inf and fail the job instead of the input.
+MAX_COORDINATE = 1e100
+
+
 def as_points(
     x: Any,
     *,
@@ -192,6 +198,14 @@ def as_points(
         )
     out = np.ascontiguousarray(arr, dtype=np.float64)
     _check_finite(out, name=name)
+    if out.size and max(out.max(), -out.min()) > MAX_COORDINATE:
+        row = int(np.argmax(np.abs(out).max(axis=1)))
+        raise InvalidInputError(
+            f"Expected `{name}` to hold coordinates of magnitude at most {MAX_COORDINATE:g} "
+            f"(sums of their squares must fit a float64), got "
+            f"{_fmt_number(out[row][np.argmax(np.abs(out[row]))])} at row {row}.",
+            field=name,
+        )
     return out
 
 

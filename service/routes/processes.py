@@ -12,6 +12,7 @@ from pydantic import ValidationError
 
 from service import jsonio
 from service.auth import owner_of
+from service.binary import decode_arrays
 from service.catalog import Process, processes
 from service.errors import ServiceError
 from service.jsonio import JSONResponse
@@ -77,9 +78,9 @@ def _parse_execute(process: Process, raw: bytes, st: State) -> dict[str, Any]:
     if not isinstance(inputs, dict):
         raise _invalid("inputs", f"Expected an object of named inputs, got "
                        f"{type(inputs).__name__}.")
-    try:
+    try:  # typed binary arrays are decoded first: their errors name the input path
         params = process.params.model_validate(
-            {k: _unwrap(v) for k, v in inputs.items()},
+            {k: decode_arrays(_unwrap(v), k) for k, v in inputs.items()},
             context={"max_points": st.settings.max_points})
     except ValidationError as exc:
         errors = pydantic_errors(exc.errors())

@@ -45,6 +45,8 @@ CATALOGUE: list[tuple[str, str, Any, dict[str, str], int, str]] = [
         [0, 0, 0], [1, 0, 0], [0, INF, 0], [0, 0, 1]]}, {}, 422, "target"),
     ("huge number overflows", "alignment.rigid", b'{"inputs": {"source": [[0,0,0],[1,0,0],'
      b'[0,1,0],[0,0,1]], "target": [[1e999,0,0],[1,0,0],[0,1,0],[0,0,1]]}}', {}, 422, "target"),
+    ("finite but too large to square", "alignment.rigid", {"source": [
+        [0, 0, 0], [1e300, 0, 0], [0, 1, 0], [0, 0, 1]], "target": SQ}, {}, 422, "source"),
     ("mismatched counts", "alignment.affine", {"source": SQ, "target": MOVED[:3]}, {}, 422,
      "target"),
     ("mismatched dimensions", "alignment.rigid", {"source": SQ, "target": [[0, 0]] * 4}, {}, 422,

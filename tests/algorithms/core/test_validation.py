@@ -21,6 +21,7 @@ from algorithms.core import (
     same_dim,
     same_shape,
 )
+from algorithms.core.validation import MAX_COORDINATE
 
 
 # --- as_points ---------------------------------------------------------------------------
@@ -49,9 +50,20 @@ def test_as_points_no_copy_when_already_right():
     assert as_points(arr, name="source") is arr
 
 
-def test_as_points_huge_but_finite_values_pass():
-    arr = np.full((3, 2), 1e308)  # the fast sum overflows; the slow check must clear it
+def test_as_points_magnitudes_up_to_the_limit_pass():
+    arr = np.full((3, 2), -MAX_COORDINATE)
     assert as_points(arr, name="source") is arr
+    big = np.full((300, 300), MAX_COORDINATE)  # the large-array (one sum) finite check
+    assert as_points(big, name="source") is big
+
+
+def test_as_points_refuses_magnitudes_whose_squares_overflow():
+    arr = np.zeros((4, 3))
+    arr[2, 1] = -1e300  # finite, but every distance through it overflows
+    with pytest.raises(InvalidInputError, match=r"magnitude at most 1e\+100 .* got "
+                       r"-1e\+300 at row 2\.") as info:
+        as_points(arr, name="target")
+    assert info.value.field == "target"
 
 
 def test_as_points_rejects_1d():

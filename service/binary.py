@@ -1,0 +1,83 @@
+"""Typed binary arrays inside JSON: ``{"dtype": "float64", "shape": [n, 3], "data": BASE64}``.
+
+Any input, or any array inside an input (``mesh.vertices``, ``mesh.faces``,
+``handles.positions``), may be sent this way instead of as nested JSON lists: the bytes are
+the array in C order, little-endian unless the dtype says otherwise (``">f8"``), base64
+encoded. Decoding 1M points this way takes milliseconds where JSON lists take over 100 ms,
+the values arrive bit-exact, and an empty array keeps its shape. Integer, unsigned and
+floating dtypes of up to 8 bytes are accepted; validation of the values (NaN, ranges,
+shapes for the method) is the same as for lists.
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import math
+from typing import Any
+
+import numpy as np
+
+from algorithms.core.errors import InvalidInputError
+
+__all__ = ["BINARY_KEYS", "decode_arrays", "is_binary_array"]
+
+#: The members of a typed binary array object, exactly.
+BINARY_KEYS = frozenset({"dtype", "shape", "data"})
+
+#: Most dimensions a binary array may declare.
+MAX_NDIM = 4
+
+
+def is_binary_array(value: Any) -> bool:
+    return isinstance(value, dict) and value.keys() == BINARY_KEYS
+
+
+def decode_arrays(value: Any, name: str) -> Any:
+    """``value`` with every typed binary array object in it (at any depth of objects)
+    replaced by its numpy array; errors name the input path, such as ``mesh.vertices``."""
+    if is_binary_array(value):
+        return _decode(value, name)
+    if isinstance(value, dict):
+        return {k: decode_arrays(v, f"{name}.{k}") for k, v in value.items()}
+    return value
+
+
+def _decode(obj: dict[str, Any], name: str) -> np.ndarray:
+    what = f"`{name}` as a typed binary array"
+    try:
+        dtype = np.dtype(obj["dtype"]) if isinstance(obj["dtype"], str) else None
+    except TypeError:
+        dtype = None
+    if dtype is None or dtype.kind not in "iuf" or dtype.itemsize > 8:
+        raise InvalidInputError(
+            f"Expected {what} to have a dtype of integers or floats of up to 8 bytes "
+            f"(such as 'float64', 'float32', 'int64', '<f8'), got {obj['dtype']!r}.",
+            field=name)
+    shape = obj["shape"]
+    if not isinstance(shape, list) or not 1 <= len(shape) <= MAX_NDIM or not all(
+            isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in shape):
+        raise InvalidInputError(
+            f"Expected {what} to have a shape of 1 to {MAX_NDIM} non-negative integers, got "
+            f"{shape!r}.", field=name)
+    data = obj["data"]
+    if not isinstance(data, str):
+        raise InvalidInputError(f"Expected {what} to carry its bytes as a base64 string, got "
+                                f"{type(data).__name__}.", field=name)
+    expected = math.prod(shape) * dtype.itemsize
+    if len(data) > 4 * (expected // 3 + 1) + 4:  # refuse before decoding a mismatch
+        raise InvalidInputError(
+            f"Expected {what} of shape {tuple(shape)} and dtype {dtype.str} to hold "
+            f"{expected} bytes, got a longer base64 string ({len(data)} characters).",
+            field=name)
+    try:
+        raw = base64.b64decode(data, validate=True)
+    except (binascii.Error, ValueError):
+        raise InvalidInputError(f"Expected {what} to carry valid base64 in `data`.",
+                                field=name) from None
+    if len(raw) != expected:
+        raise InvalidInputError(
+            f"Expected {what} of shape {tuple(shape)} and dtype {dtype.str} to hold "
+            f"{expected} bytes, got {len(raw)}.", field=name)
+    return np.frombuffer(raw, dtype=dtype).reshape(shape).astype(dtype.newbyteorder("="),
+                                                                 copy=False)

@@ -1,0 +1,113 @@
+"""Typed binary arrays inline in JSON ({"dtype", "shape", "data": base64}) over HTTP: the
+same answers as JSON lists, bit-exact values, float32 and integer dtypes, and errors that
+name the input path; and the SDK's encoder against the service's decoder."""
+
+from __future__ import annotations
+
+import base64
+
+import numpy as np
+import pytest
+
+from morphserve._models import BINARY_ABOVE, binary_array, to_json_value
+from service.binary import decode_arrays
+
+pytestmark = pytest.mark.e2e
+
+
+def b64(a: np.ndarray, dtype: str | None = None) -> dict:
+    a = np.ascontiguousarray(a, dtype=dtype or a.dtype)
+    return {"dtype": a.dtype.str, "shape": list(a.shape),
+            "data": base64.b64encode(a.tobytes()).decode()}
+
+
+def _post(http, process: str, inputs: dict):  # noqa: ANN001, ANN202
+    return http.post(f"/processes/{process}/execution", json={"inputs": inputs})
+
+
+def test_binary_and_list_inputs_give_the_same_answer(http) -> None:
+    rng = np.random.default_rng(3)
+    X = rng.normal(size=(1500, 3))
+    Y = X @ np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]]).T + [1, 2, 3]
+    as_lists = _post(http, "alignment.rigid", {"source": X.tolist(), "target": Y.tolist()})
+    as_binary = _post(http, "alignment.rigid", {"source": b64(X), "target": b64(Y)})
+    assert as_lists.status_code == as_binary.status_code == 200, as_binary.text
+    assert as_binary.json()["transform"] == as_lists.json()["transform"]  # bit for bit
+
+
+def test_values_arrive_bit_exact(http) -> None:
+    # pinned positions come back exactly as sent: random doubles with every mantissa bit used
+    rng = np.random.default_rng(5)
+    pins = rng.normal(size=(3, 2)) * np.array([1e-300, 1e90])
+    graph = {"nodes": 4, "edges": [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]]}
+    r = _post(http, "layout.laplacian", {"graph": graph, "pins": {
+        "indices": [0, 1, 2], "positions": b64(pins)}})
+    assert r.status_code == 200, r.text
+    got = np.array(r.json()["positions"])[:3]
+    assert got.tobytes() == pins.tobytes()
+
+
+def test_float32_and_int32_inputs_are_accepted(http) -> None:
+    strip = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], dtype=np.float32)
+    faces = np.array([[0, 1, 2], [1, 3, 2]], dtype=np.int32)
+    r = _post(http, "deformation.harmonic", {
+        "mesh": {"vertices": b64(strip), "faces": b64(faces)},
+        "handles": {"indices": b64(np.array([0, 3], np.int64)),
+                    "positions": b64(np.array([[0, 0, 0], [1, 1, 1]], np.float32))}})
+    assert r.status_code == 200, r.text
+    out = np.array(r.json()["mesh"]["vertices"])
+    np.testing.assert_array_equal(out[[0, 3]], [[0, 0, 0], [1, 1, 1]])
+    np.testing.assert_array_equal(r.json()["mesh"]["faces"], faces)
+
+
+GOOD = b64(np.zeros((4, 3)))
+
+
+@pytest.mark.parametrize("bad, fragment", [
+    ({**GOOD, "dtype": "complex128"}, "dtype of integers or floats"),
+    ({**GOOD, "dtype": "object"}, "dtype of integers or floats"),
+    ({**GOOD, "dtype": 8}, "dtype of integers or floats"),
+    ({**GOOD, "dtype": "float128"}, "dtype of integers or floats"),
+    ({**GOOD, "shape": [-4, 3]}, "non-negative integers"),
+    ({**GOOD, "shape": "4x3"}, "non-negative integers"),
+    ({**GOOD, "shape": []}, "non-negative integers"),
+    ({**GOOD, "shape": [4, 3, 1, 1, 1]}, "non-negative integers"),
+    ({**GOOD, "data": "not base64!"}, "valid base64"),
+    ({**GOOD, "data": 12}, "base64 string"),
+    ({**GOOD, "shape": [5, 3]}, "to hold 120 bytes, got 96"),
+    ({**GOOD, "shape": [1, 1]}, "longer base64 string"),
+])
+def test_malformed_binary_arrays_name_the_input(http, bad: dict, fragment: str) -> None:
+    r = _post(http, "alignment.rigid", {"source": bad, "target": GOOD})
+    assert r.status_code == 422, r.text
+    assert r.headers["content-type"] == "application/problem+json"
+    body = r.json()
+    assert body["errors"][0]["input"] == "source" and fragment in body["detail"], body
+    nested = _post(http, "deformation.arap", {
+        "mesh": {"vertices": bad, "faces": [[0, 1, 2]]},
+        "handles": {"indices": [0], "positions": [[0, 0, 0]]}})
+    assert nested.status_code == 422
+    assert nested.json()["errors"][0]["input"] == "mesh.vertices", nested.json()
+
+
+def test_nan_in_a_binary_array_names_its_row(http) -> None:
+    X = np.zeros((4, 3))
+    X[2, 1] = np.nan
+    r = _post(http, "alignment.rigid", {"source": b64(X), "target": GOOD})
+    assert r.status_code == 422
+    assert r.json()["errors"][0]["input"] == "source" and "row 2" in r.json()["detail"]
+
+
+def test_the_sdk_encoder_and_the_service_decoder_agree() -> None:
+    rng = np.random.default_rng(0)
+    for a in (rng.normal(size=(BINARY_ABOVE, 3)), rng.normal(size=(2000, 2)).astype(">f8"),
+              rng.integers(-9, 9, size=(700, 3)).astype(np.int32),
+              np.empty((0, 3)), rng.random(5000).astype(np.float32)):
+        sent = to_json_value(a, "x")
+        assert isinstance(sent, dict) and sent == binary_array(a)
+        back = decode_arrays(sent, "x")
+        assert back.shape == a.shape and back.dtype == a.dtype.newbyteorder("=")
+        assert back.tobytes() == a.astype(a.dtype.newbyteorder("=")).tobytes()
+    small = rng.normal(size=(10, 3))
+    assert to_json_value(small, "x") == small.tolist()  # small arrays stay readable lists
+    assert to_json_value(np.array([True, False]), "x") == [True, False]
