@@ -41,6 +41,7 @@ from morphserve import (
     MorphserveError,
     Results,
     TransportError,
+    WaitTimeout,
     __version__,
 )
 
@@ -170,6 +171,11 @@ def _input_use(description: dict[str, Any]) -> str:
     return "optional"
 
 
+def _when(moment: Any) -> str | None:
+    """A time as `status` and `jobs` both print it: ISO 8601 to the second, with its zone."""
+    return moment.isoformat(timespec="seconds") if moment is not None else None
+
+
 def _status_lines(status: JobStatus) -> str:
     fields = [
         ("job", status.job_id),
@@ -177,10 +183,10 @@ def _status_lines(status: JobStatus) -> str:
         ("status", status.status),
         ("progress", None if status.progress is None else f"{status.progress}%"),
         ("message", status.message),
-        ("created", status.created),
-        ("started", status.started),
-        ("finished", status.finished),
-        ("updated", status.updated),
+        ("created", _when(status.created)),
+        ("started", _when(status.started)),
+        ("finished", _when(status.finished)),
+        ("updated", _when(status.updated)),
     ]
     return "\n".join(
         f"{name:<9}{'' if value is None else value}".rstrip() for name, value in fields
@@ -363,6 +369,14 @@ def _execute(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
             return 130
+        except WaitTimeout:
+            print(
+                f"error: job {job.id} did not end within {args.timeout:g} s; it goes on "
+                f"(morphserve status {job.id} follows it, morphserve dismiss {job.id} "
+                "stops it)",
+                file=sys.stderr,
+            )
+            return 1
         _put_results(job.results(), args.output)
     return 0
 
@@ -376,7 +390,7 @@ def _jobs(args: argparse.Namespace) -> int:
             j.process_id,
             j.status,
             None if j.progress is None else f"{j.progress}%",
-            j.created.isoformat(timespec="seconds") if j.created else None,
+            _when(j.created),
             j.message,
         )
         for j in jobs

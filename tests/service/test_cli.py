@@ -479,7 +479,7 @@ def test_status_prints_the_fields(run: Run, service: Canned) -> None:
         "progress 50%",
         "message  halfway",
     ]
-    assert "created  2025-01-02 03:04:05+00:00" in lines
+    assert "created  2025-01-02T03:04:05+00:00" in lines  # as `jobs` prints it
     assert "started" in lines
 
 
