@@ -369,11 +369,10 @@ def _execute(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
             return 130
-        except WaitTimeout:
+        except WaitTimeout as error:
             print(
-                f"error: job {job.id} did not end within {args.timeout:g} s; it goes on "
-                f"(morphserve status {job.id} follows it, morphserve dismiss {job.id} "
-                "stops it)",
+                f"error: {error} It goes on: 'morphserve status {job.id}' follows it, "
+                f"'morphserve dismiss {job.id}' stops it.",
                 file=sys.stderr,
             )
             return 1

@@ -380,7 +380,9 @@ def test_execute_wait_timeout(run: Run, service: Canned) -> None:
     service.routes["GET /jobs/job-1"] = [ok(info("running", 50, "halfway"))]
     code, out, err = run("execute", "alignment.rigid", "--wait", "--timeout", "0", "--no-progress")
     assert (code, out) == (1, "")
-    assert err == "error: Job job-1 did not end within 0 s (last seen running, 50%).\n"
+    assert err == ("error: Job job-1 did not end within 0 s (last seen running, 50%). It goes "
+                   "on: 'morphserve status job-1' follows it, 'morphserve dismiss job-1' "
+                   "stops it.\n")
 
 
 def test_execute_wait_on_a_failed_job(run: Run, service: Canned) -> None:

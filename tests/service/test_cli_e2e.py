@@ -171,8 +171,8 @@ def test_wait_timeout_then_dismiss_the_running_job(server, http) -> None:  # noq
     done = morphserve("execute", "diagnostics.sleep", "--param", "seconds=60",
                       "--param", "steps=6000", "--wait", "--timeout", "0.3", "--no-progress",
                       url=server.url)
-    match = re.search(r"job (\S+) did not end within 0.3 s; it goes on "
-                      r"\(morphserve status \1 follows it", done.stderr)
+    match = re.search(r"Job (\S+) did not end within 0.3 s .* It goes on: "
+                      r"'morphserve status \1' follows it", done.stderr)
     assert match, done.stderr
     job = match[1]
     try:
