@@ -1,0 +1,66 @@
+"""Unit normals of a 3-D point set: checked when given, estimated by local PCA when not.
+
+Private to the registration family (``icp`` and its plane metrics).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from algorithms.core.errors import InvalidInputError
+from algorithms.core.types import FloatArray
+from algorithms.core.validation import as_points
+
+__all__ = ["given_normals", "estimate_normals", "MIN_NORMAL_POINTS"]
+
+#: Points a normal needs: itself and two neighbours span a plane.
+MIN_NORMAL_POINTS = 3
+#: A given normal shorter than this counts as missing (it cannot be normalised).
+MIN_NORMAL_LENGTH = 1e-12
+
+
+def given_normals(normals: Any, n: int, *, name: str) -> FloatArray:
+    """Check user normals (``(n, 3)``, finite, non-zero) and return them normalised."""
+    out = as_points(normals, name=name, dim=3)
+    if out.shape[0] != n:
+        points = name.replace("_normals", "")
+        raise InvalidInputError(
+            f"Expected `{name}` to hold one normal per `{points}` point ({n}), got "
+            f"{out.shape[0]}.", field=name)
+    length = np.sqrt(np.einsum("ij,ij->i", out, out))
+    short = np.flatnonzero(length < MIN_NORMAL_LENGTH)
+    if short.size:
+        raise InvalidInputError(
+            f"Expected `{name}` to hold non-zero vectors, got length "
+            f"{float(length[short[0]]):.3g} at row {int(short[0])}.", field=name)
+    return out / length[:, None]
+
+
+def estimate_normals(points: FloatArray, tree: cKDTree, k: int, workers: int
+                     ) -> tuple[FloatArray, FloatArray]:
+    r"""Normals by principal component analysis of each point's ``k`` nearest neighbours.
+
+    For the neighbourhood :math:`N_i` (the point and its ``k`` nearest others) the
+    covariance :math:`C_i = \frac{1}{|N_i|}\sum_{j \in N_i} (p_j - \bar p)(p_j - \bar p)^\mathsf{T}`
+    is diagonalised; the normal is the eigenvector of the smallest eigenvalue (Hoppe et al.
+    1992). Its sign is arbitrary, which the point-to-plane residual does not notice.
+
+    Returns
+    -------
+    normals : (n, 3) float array
+        Unit normals.
+    planarity : (n,) float array
+        The middle eigenvalue over the largest, in ``[0, 1]``: near 0 where the neighbourhood
+        is collinear and the normal undetermined (such points get no weight in the fit).
+    """
+    k = min(k, points.shape[0] - 1)
+    _, idx = tree.query(points, k=k + 1, workers=workers)
+    nbhd = points[idx]                                    # (n, k+1, 3)
+    nbhd = nbhd - nbhd.mean(axis=1, keepdims=True)
+    cov = np.einsum("nki,nkj->nij", nbhd, nbhd)
+    val, vec = np.linalg.eigh(cov)                        # ascending eigenvalues
+    top = np.maximum(val[:, 2], np.finfo(float).tiny)
+    return np.ascontiguousarray(vec[:, :, 0]), np.clip(val[:, 1] / top, 0.0, 1.0)
