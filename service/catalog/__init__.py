@@ -12,6 +12,7 @@ from service.catalog import (  # noqa: F401  (register their entries)
     assignment,
     deformation,
     layout,
+    parameterization,
     registration,
 )
 from service.catalog.registry import Output, Process, Registry, registry

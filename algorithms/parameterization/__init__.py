@@ -1,0 +1,22 @@
+"""Parameterization: maps of a disk-like triangle mesh to the plane (``uv``), with the
+flips and the angle and area distortion of each."""
+
+from algorithms.parameterization._disk import NotADiskError, check_disk
+from algorithms.parameterization._results import LocalGlobalResult, ParameterizationResult
+from algorithms.parameterization.arap import arap
+from algorithms.parameterization.asap import asap
+from algorithms.parameterization.conformal import conformal
+from algorithms.parameterization.harmonic import harmonic
+from algorithms.parameterization.tutte import tutte
+
+__all__ = [
+    "NotADiskError",
+    "check_disk",
+    "ParameterizationResult",
+    "LocalGlobalResult",
+    "tutte",
+    "harmonic",
+    "conformal",
+    "arap",
+    "asap",
+]

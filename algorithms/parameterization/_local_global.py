@@ -1,0 +1,157 @@
+r"""The local/global solver shared by the ARAP and ASAP parameterizations (Liu et al. 2008).
+
+Energy, with one 2×2 transform :math:`T_t` per face (a rotation for ARAP, a similarity
+:math:`\begin{pmatrix} p & -s \\ s & p \end{pmatrix}` for ASAP):
+
+.. math::
+
+    E(u, T) = \sum_t \sum_{k=0}^{2} \tfrac12\cot\theta_t^k\,
+    \lVert (u_{a} - u_{b}) - T_t\, e_t^k \rVert^2 = \sum_t A_t \lVert J_t(u) - T_t \rVert_F^2,
+
+:math:`e_t^k` the edge opposite corner :math:`k` of face :math:`t` (from corner :math:`a`
+to :math:`b`) in an isometric frame of the face, :math:`J_t` the face's Jacobian.
+
+* Local step: :math:`T_t` nearest :math:`J_t` in Frobenius norm, in closed form: with
+  :math:`p = (J_{00} + J_{11})/2` and :math:`s = (J_{10} - J_{01})/2`, the similarity
+  :math:`(p, s)` or the rotation :math:`(p, s)/\lVert(p, s)\rVert` (always proper, so no
+  reflection fix is needed in 2-D).
+* Global step: the per-half-edge least squares over :math:`u` with every :math:`T_t`
+  fixed, :math:`L u = \sum_t \sum_k \tfrac12\cot\theta_t^k\, D_k^\mathsf{T} T_t e_t^k`,
+  :math:`L` the cotangent Laplacian, factored once; the right-hand side is one sparse
+  product :math:`C\,\operatorname{vec}(T)`. Pinned vertices fix what the energy leaves
+  free.
+"""
+
+from __future__ import annotations
+
+import warnings
+import numpy as np
+import scipy.sparse as sp
+
+from algorithms.core.errors import ConvergenceWarning
+from algorithms.core.laplacian import cotangent_entries, cotangent_laplacian
+from algorithms.core.linsolve import PinnedSystem
+from algorithms.core.mesh import Mesh, face_areas, signed_areas
+from algorithms.core.progress import Progress, as_progress
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.layout import laplacian as spring_layout
+from algorithms.parameterization._disk import Disk, convex_boundary
+from algorithms.parameterization._quality import face_frames, jacobians, quality
+from algorithms.parameterization._results import LocalGlobalResult
+from algorithms.parameterization.conformal import lscm_uv
+
+__all__ = ["LocalGlobalSolver", "fit_transforms", "local_global_energy", "initial_map"]
+
+
+def fit_transforms(J: FloatArray, similarity: bool) -> FloatArray:
+    """The rotation (or similarity) nearest each Jacobian, ``(m, 2, 2)``."""
+    p = 0.5 * (J[:, 0, 0] + J[:, 1, 1])
+    s = 0.5 * (J[:, 1, 0] - J[:, 0, 1])
+    if not similarity:
+        r = np.hypot(p, s)
+        zero = r == 0
+        r[zero] = 1.0
+        p = np.where(zero, 1.0, p) / r
+        s = s / r
+    out = np.empty_like(J)
+    out[:, 0, 0] = p
+    out[:, 0, 1] = -s
+    out[:, 1, 0] = s
+    out[:, 1, 1] = p
+    return out
+
+
+def local_global_energy(area: FloatArray, J: FloatArray, T: FloatArray) -> float:
+    """:math:`\\sum_t A_t \\lVert J_t - T_t \\rVert_F^2`."""
+    d = J - T
+    return float(np.einsum("t,tij,tij->", area, d, d))
+
+
+class LocalGlobalSolver:
+    """Factor the global step once for a mesh and a set of pinned vertices.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        A checked disk.
+    pinned : (p,) int array
+        Vertices held where the initial map puts them (one for ARAP: translation; two
+        for ASAP: translation, rotation and scale).
+    similarity : bool
+        ASAP (similarities) instead of ARAP (rotations).
+    """
+
+    def __init__(self, mesh: Mesh, pinned: IntArray, *, similarity: bool) -> None:
+        v, f = mesh.vertices, mesh.faces
+        n, m = mesh.n_vertices, mesh.n_faces
+        self.mesh, self.similarity = mesh, similarity
+        self.pinned = np.asarray(pinned, dtype=np.int64)
+        self.frames = face_frames(v, f)
+        self.area = 0.5 * self.frames[:, 1, 0] * self.frames[:, 2, 1]
+        x = self.frames
+        e = x[:, [1, 2, 0]] - x[:, [2, 0, 1]]                   # e_k = x_{k+1} - x_{k+2}
+        ce = cotangent_entries(v, f)[:, :, None] * e             # (m, 3, 2)
+        a, b = f[:, [1, 2, 0]], f[:, [2, 0, 1]]                  # (m, 3) ends of e_k
+        col = 2 * np.arange(m)[:, None]                          # column of T_t[:, 0]
+        rows = np.concatenate([a.ravel(), a.ravel(), b.ravel(), b.ravel()])
+        cols = np.concatenate([np.broadcast_to(col, (m, 3)).ravel(),
+                               np.broadcast_to(col + 1, (m, 3)).ravel()] * 2)
+        vals = np.concatenate([ce[..., 0].ravel(), ce[..., 1].ravel(),
+                               -ce[..., 0].ravel(), -ce[..., 1].ravel()])
+        self._C = sp.coo_array((vals, (rows, cols)), shape=(n, 2 * m)).tocsr()
+        self._C.sum_duplicates()
+        lap = cotangent_laplacian(v, f)
+        self.system = PinnedSystem(lap, self.pinned, name="mesh", prefer="solve",
+                                   check_components=False)  # many solves: cholespy
+
+    def _global(self, T: FloatArray, values: FloatArray) -> FloatArray:
+        rhs = self._C @ T.transpose(0, 2, 1).reshape(-1, 2)
+        return self.system.solve(values, rhs)
+
+    def solve(self, initial: FloatArray, *, max_iterations: int, tolerance: float,
+              progress: Progress | None = None, name: str = "ARAP") -> LocalGlobalResult:
+        """Iterate from ``initial`` (``(n, 2)``; the pinned vertices stay there)."""
+        report = as_progress(progress)
+        f = self.mesh.faces
+        uv = np.array(initial, dtype=np.float64)
+        values = uv[self.pinned]
+        J = jacobians(self.frames, f, uv)
+        T = fit_transforms(J, self.similarity)
+        energies = [local_global_energy(self.area, J, T)]
+        floor = 1e-15 * float(self.area.sum())
+        converged = False
+        for it in range(max_iterations):
+            uv = self._global(T, values)
+            J = jacobians(self.frames, f, uv)
+            T = fit_transforms(J, self.similarity)
+            e = local_global_energy(self.area, J, T)
+            energies.append(e)
+            report(it + 1, max_iterations, f"iteration {it + 1}: energy {e:.6g}")
+            if e <= floor or energies[-2] - e <= tolerance * max(e, floor):
+                converged = True
+                break
+        if not converged and tolerance > 0:
+            warnings.warn(f"{name} parameterization stopped after {max_iterations} iterations "
+                          f"with the energy still falling faster than tolerance={tolerance}.",
+                          ConvergenceWarning, stacklevel=3)
+        q = quality(self.mesh.vertices, f, uv, self.frames)
+        return LocalGlobalResult(uv=uv, mesh=self.mesh, energy=np.array(energies),
+                                 iterations=len(energies) - 1, converged=converged,
+                                 flipped_faces=q.flipped_faces,
+                                 degenerate_faces=q.degenerate_faces,
+                                 angle_distortion=q.angle_distortion,
+                                 area_distortion=q.area_distortion)
+
+
+def initial_map(disk: Disk, init: str) -> FloatArray:
+    """LSCM (farthest boundary pair pinned) or the harmonic map onto the circle, scaled so
+    its area equals the surface's."""
+    m = disk.mesh
+    if init == "lscm":
+        uv = lscm_uv(disk)[0]
+    else:
+        uv = spring_layout(m, pins={"indices": disk.loop,
+                                    "positions": convex_boundary(disk, "circle")},
+                           weighting="cotangent").positions
+    plane = abs(float(signed_areas(uv, m.faces).sum()))
+    return uv * np.sqrt(face_areas(m.vertices, m.faces).sum() / plane)
