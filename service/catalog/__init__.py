@@ -11,6 +11,7 @@ from service.catalog import (  # noqa: F401  (register their entries)
     alignment,
     assignment,
     deformation,
+    embedding,
     layout,
     parameterization,
     registration,

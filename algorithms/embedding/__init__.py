@@ -1,0 +1,12 @@
+"""Embedding (n×D data → n×k): linear projections (``pca``, ``random_projection``, ``lpp``),
+distance-keeping maps (``mds``, ``isomap``) and graph spectral maps (``laplacian_eigenmaps``,
+``lle``); every result reports its trustworthiness."""
+
+from algorithms.embedding._quality import trustworthiness
+from algorithms.embedding.isomap import IsomapResult, isomap
+from algorithms.embedding.laplacian_eigenmaps import LaplacianEigenmapsResult, laplacian_eigenmaps
+from algorithms.embedding.lle import LLEResult, lle
+from algorithms.embedding.mds import EmbeddingMDSResult, mds
+from algorithms.embedding.pca import PCAResult, pca
+from algorithms.embedding.lpp import LPPResult, lpp
+from algorithms.embedding.random_projection import RandomProjectionResult, random_projection

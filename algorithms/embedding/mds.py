@@ -1,0 +1,146 @@
+r"""Multidimensional scaling of points: an embedding that keeps their pairwise distances."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.spatial.distance import pdist, squareform
+
+from algorithms.core.progress import Progress
+from algorithms.core.types import FloatArray
+from algorithms.core.validation import as_bool, as_int, as_points
+from algorithms.embedding._quality import trustworthiness
+from algorithms.layout._inputs import MAX_DENSE_POINTS
+from algorithms.layout.mds import classical_coordinates, raw_stress
+from algorithms.layout.stress import stress as smacof
+
+__all__ = ["EmbeddingMDSResult", "mds"]
+
+
+@dataclass(frozen=True, eq=False)
+class EmbeddingMDSResult:
+    """Points in ``k`` dimensions whose distances reproduce those of the input.
+
+    Attributes
+    ----------
+    embedding : (n, k) float array
+        One row per point, centred at the origin. Classical: column ``c`` is the ``c``-th
+        principal coordinate, its entry of largest magnitude positive.
+    eigenvalues : (k,) float array
+        The ``k`` largest eigenvalues of the double-centred squared distances
+        :math:`-\\tfrac12 J D^{(2)} J` (of the classical solution, also the start of the
+        metric one), decreasing.
+    stress : float
+        The raw stress :math:`\\sum_{i<j} (\\lVert y_i - y_j \\rVert - d_{ij})^2`.
+    normalized_stress : float
+        :math:`\\sqrt{\\text{stress} / \\sum_{i<j} d_{ij}^2}`: 0 for a perfect fit.
+    iterations : int
+        SMACOF iterations (0 for classical MDS).
+    converged : bool
+        False when the metric iteration stopped at ``max_iterations``; True for classical.
+    trustworthiness : float
+        Trustworthiness of the embedding (1: every embedded neighbourhood is a true one).
+    """
+
+    embedding: FloatArray
+    eigenvalues: FloatArray
+    stress: float
+    normalized_stress: float
+    iterations: int
+    converged: bool
+    trustworthiness: float
+
+
+def mds(points: Any, *, n_components: int = 2, metric: bool = False,
+        max_iterations: int = 300, tolerance: float = 1e-6, quality_neighbors: int = 5,
+        progress: Progress | None = None) -> EmbeddingMDSResult:
+    r"""Classical (Torgerson) or metric (SMACOF) multidimensional scaling of points.
+
+    **Classical** (default): with the squared distances :math:`D^{(2)}` and the centring
+    :math:`J = I - \tfrac1n \mathbf 1 \mathbf 1^\mathsf{T}`, the Gram matrix
+    :math:`B = -\tfrac12 J D^{(2)} J`; the embedding is
+    :math:`[\sqrt{\lambda_1} e_1, \dots, \sqrt{\lambda_k} e_k]` from its ``k`` largest
+    eigenpairs (:func:`algorithms.layout.mds.classical_coordinates`, shared with
+    ``layout.mds``). **Metric** (``metric=True``): from the classical embedding, stress
+    majorization minimises :math:`\sum_{i<j} (\lVert y_i - y_j \rVert - d_{ij})^2`
+    (:func:`algorithms.layout.stress` with uniform weights, scikit-learn's ``MDS``).
+
+    Parameters
+    ----------
+    points : (n, D) float array
+        At least 2 and at most 4,000 points (dense ``n×n`` matrices).
+    n_components : int, default 2
+        The dimension ``k``, ``1 <= k <= n``.
+    metric : bool, default False
+        Refine the classical embedding by SMACOF.
+    max_iterations : int, default 300
+        Most SMACOF iterations (``metric=True``).
+    tolerance : float, default 1e-6
+        SMACOF stops when one iteration lowers the stress by less than this fraction.
+    quality_neighbors : int, default 5
+        The neighbourhood size of the reported trustworthiness.
+    progress : callable, optional
+        Called per SMACOF iteration; may raise ``Cancelled``.
+
+    Returns
+    -------
+    EmbeddingMDSResult
+        ``embedding``, ``eigenvalues``, ``stress``, ``normalized_stress``, ``iterations``,
+        ``converged``, ``trustworthiness``.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad ``points`` (fewer than 2 or more than 4,000, NaN/Inf), ``n_components`` outside
+        ``[1, n]``.
+
+    Notes
+    -----
+    The seed document: "take the distance matrix, centre rows and columns, divide by −2 to
+    get the dot-product matrix ... the answer is exactly the PCA embedding". So classical
+    MDS of Euclidean distances equals :func:`~algorithms.embedding.pca` up to the signs of
+    the columns (tested), and ``sklearn.manifold.ClassicalMDS``. It is computed from the
+    distances here (as for any metric), which costs :math:`O(n^2)` memory.
+
+    References
+    ----------
+    .. [1] W. S. Torgerson, "Multidimensional scaling: I. Theory and method",
+       Psychometrika 17 (1952).
+    .. [2] J. de Leeuw, "Applications of convex analysis to multidimensional scaling",
+       Recent Developments in Statistics (1977) (SMACOF).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = [[0, 0, 0], [3, 0, 0], [0, 4, 0]]
+    >>> y = mds(x).embedding
+    >>> round(float(np.linalg.norm(y[1] - y[2])), 9)
+    5.0
+    """
+    x = as_points(points, name="points", min_points=2, max_points=MAX_DENSE_POINTS)
+    n = x.shape[0]
+    k = as_int(n_components, name="n_components", minimum=1, maximum=n,
+               reason=f"the number of `points` ({n})")
+    as_bool(metric, name="metric")
+    d = squareform(pdist(x))
+    y, eigenvalues = classical_coordinates(d * d, k)
+    iterations, converged = 0, True
+    if metric:
+        res = smacof(d, n_components=k, weighting="uniform", init="classical",
+                     initial_positions=y, max_iterations=max_iterations, tolerance=tolerance,
+                     progress=progress)
+        y, iterations, converged = res.positions, res.iterations, res.converged
+        y = y - y.mean(axis=0)
+    s, total = raw_stress(y, d)
+    return EmbeddingMDSResult(
+        embedding=np.ascontiguousarray(y),
+        eigenvalues=eigenvalues,
+        stress=s,
+        normalized_stress=math.sqrt(s / total) if total > 0 else 0.0,
+        iterations=iterations,
+        converged=converged,
+        trustworthiness=trustworthiness(x, y, n_neighbors=quality_neighbors),
+    )
