@@ -10,6 +10,8 @@ from __future__ import annotations
 from service.catalog import (  # noqa: F401  (register their entries)
     alignment,
     assignment,
+    classification,
+    clustering,
     deformation,
     embedding,
     layout,

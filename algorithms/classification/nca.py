@@ -1,0 +1,262 @@
+r"""Neighbourhood components analysis: the linear map under which a stochastic nearest
+neighbour classifier is most often right."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg as la
+from scipy.optimize import minimize
+
+from algorithms.classification._common import as_labels, fix_signs
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.progress import Progress, as_progress
+from algorithms.core.types import FloatArray, IntArray, RngLike
+from algorithms.core.validation import as_choice, as_float, as_int, as_points, same_dim
+from algorithms.embedding._quality import trustworthiness
+
+__all__ = ["NCAResult", "nca", "INITS", "MAX_POINTS"]
+
+#: Accepted values of ``init``.
+INITS = ("auto", "pca", "lda", "identity", "random")
+#: Most points (the method holds dense n×n matrices).
+MAX_POINTS = 20_000
+
+
+@dataclass(frozen=True, eq=False)
+class NCAResult:
+    """The learned linear map, the embedded points, and how the optimisation went.
+
+    Attributes
+    ----------
+    embedding : (n, k) float array
+        The points mapped by ``transform``: ``points @ transform.T``.
+    transform : (k, d) float array
+        The learned linear map :math:`A`.
+    objective : float
+        The expected number of points the stochastic neighbour rule classifies correctly,
+        :math:`\\sum_i p_i` (at most ``n``).
+    accuracy : float
+        Leave-one-out accuracy of the 1-nearest-neighbour rule in the embedding.
+    query_embedding : (m, k) float array
+        ``query @ transform.T``; ``(0, k)`` without a query.
+    query_predictions : (m,) list
+        The label of each query point's nearest embedded training point; empty without a
+        query.
+    trustworthiness : float
+        How well the embedding keeps each point's 5 nearest neighbours (1 is perfect;
+        ``sklearn.manifold.trustworthiness``).
+    iterations : int
+        Iterations of the optimiser (L-BFGS).
+    converged : bool
+        False when ``max_iterations`` ran out first (a ``ConvergenceWarning`` is issued).
+    """
+
+    embedding: FloatArray
+    transform: FloatArray
+    objective: float
+    accuracy: float
+    query_embedding: FloatArray
+    query_predictions: list[Any]
+    trustworthiness: float
+    iterations: int
+    converged: bool
+
+
+def nca(points: Any, labels: Any, *, n_components: int | None = None, init: str = "auto",
+        max_iterations: int = 50, tolerance: float = 1e-5, query: Any = None,
+        seed: RngLike = 0, progress: Progress | None = None) -> NCAResult:
+    r"""Learn a linear map under which same-class points are each other's neighbours.
+
+    With :math:`z_i = A x_i`, each point picks a neighbour at random with probability
+
+    .. math:: p_{ij} = \frac{e^{-\lVert z_i - z_j \rVert^2}}
+              {\sum_{l \ne i} e^{-\lVert z_i - z_l \rVert^2}}, \qquad p_{ii} = 0,
+
+    and NCA maximises the expected number of points that pick one of their own class,
+    :math:`f(A) = \sum_i \sum_{j \in C_i} p_{ij}`, with gradient
+
+    .. math:: \frac{\partial f}{\partial A} = 2A \sum_i \Big(p_i \sum_k p_{ik}
+              x_{ik} x_{ik}^\mathsf{T} - \sum_{j \in C_i} p_{ij} x_{ij} x_{ij}^\mathsf{T}\Big),
+              \quad x_{ij} = x_i - x_j,
+
+    by L-BFGS (scipy), as scikit-learn's ``NeighborhoodComponentsAnalysis`` does (same
+    defaults, same initialisations, the same objective). Each gradient costs
+    :math:`O(n^2 (d + k))` with dense ``n×n`` matrices.
+
+    Parameters
+    ----------
+    points : (n, d) float array
+    labels : (n,) int or str array
+        The class of each point; at least 2 classes.
+    n_components : int, optional
+        The output dimension ``k``, ``1 <= k <= d``; ``d`` by default.
+    init : {"auto", "pca", "lda", "identity", "random"}, default "auto"
+        The starting map: ``"auto"`` is LDA when ``k <= min(d, c - 1)``, else PCA when
+        ``k < d``, else the identity (scikit-learn's rule); ``"random"`` draws a standard
+        normal ``k×d`` matrix with ``seed``.
+    max_iterations : int, default 50
+    tolerance : float, default 1e-5
+        L-BFGS stops when the relative decrease of the objective, or the largest gradient
+        entry, falls below this (scipy's ``tol``, as scikit-learn passes it).
+    query : (m, d) float array, optional
+        Points to embed and classify (1-nearest neighbour in the embedding).
+    seed : int or numpy Generator, default 0
+        For ``init="random"``; the same seed gives the same map. (With ``"lda"``, when the classes
+        differ only along directions in which they are flat, PCA starts instead.)
+    progress : callable, optional
+        ``progress(iteration, max_iterations, message)`` after each iteration; may raise
+        :class:`~algorithms.core.errors.Cancelled`.
+
+    Returns
+    -------
+    NCAResult
+        ``embedding``, ``transform``, ``objective``, ``accuracy``, ``query_embedding``,
+        ``query_predictions``, ``trustworthiness``, ``iterations``, ``converged``.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad ``points``; more than ``MAX_POINTS`` points; ``labels`` not one per point or
+        fewer than 2 classes; ``n_components`` above ``d``; ``query`` of another
+        dimension; an unknown ``init``.
+    Cancelled
+        Raised by ``progress``.
+
+    Notes
+    -----
+    The seed document sees NCA as stochastic neighbour embedding's idea applied to classes:
+    a linear map making the pairwise distances of same-class points small, with the
+    distance matrix "row-proportionalised" — the softmax rows :math:`p_{i\cdot}` above sum
+    to one. The objective of Goldberger et al. is the sum of same-class probabilities, not
+    of distances: large distances get probability near zero rather than a large penalty,
+    so a class may stay spread over several groups.
+
+    References
+    ----------
+    .. [1] J. Goldberger, S. Roweis, G. Hinton, R. Salakhutdinov, "Neighbourhood
+       components analysis", NIPS 2004.
+
+    Examples
+    --------
+    >>> pts = [[0, 0], [0, 3], [0.2, 0.1], [0.2, 3.1], [0.4, -0.1], [0.4, 2.9]]
+    >>> res = nca(pts, [0, 1, 0, 1, 0, 1], n_components=1)
+    >>> res.accuracy, res.transform.shape
+    (1.0, (1, 2))
+    """
+    report = as_progress(progress)
+    x = as_points(points, name="points", min_points=3, max_points=MAX_POINTS)
+    n, d = x.shape
+    classes, y = as_labels(labels, n)
+    c = classes.shape[0]
+    k = d if n_components is None else as_int(
+        n_components, name="n_components", minimum=1, maximum=d,
+        reason="the dimension of `points`")
+    init = as_choice(init, INITS, name="init")
+    iters = as_int(max_iterations, name="max_iterations", minimum=1)
+    tol = as_float(tolerance, name="tolerance", minimum=0.0)
+    q = None
+    if query is not None:
+        q = as_points(query, name="query")
+        same_dim(x, q, names=("points", "query"))
+
+    a0 = _initial(x, y, k, c, init, seed)
+    same = y[:, None] == y[None, :]
+    state = {"it": 0, "f": np.nan}
+
+    def fun(flat: FloatArray) -> tuple[float, FloatArray]:
+        a = flat.reshape(k, d)
+        z = x @ a.T
+        sq = np.einsum("ij,ij->i", z, z)
+        dist = np.maximum(sq[:, None] - 2.0 * z @ z.T + sq[None, :], 0.0)
+        np.fill_diagonal(dist, np.inf)
+        dist -= dist.min(axis=1, keepdims=True)   # softmax without overflow
+        p = np.exp(-dist)
+        p /= p.sum(axis=1, keepdims=True)
+        pm = np.where(same, p, 0.0)
+        pi = pm.sum(axis=1)
+        f = float(pi.sum())
+        wgt = pm - p * pi[:, None]
+        wgt = wgt + wgt.T
+        np.fill_diagonal(wgt, -wgt.sum(axis=0))
+        grad = 2.0 * (z.T @ wgt) @ x
+        state["f"] = f
+        return -f, -grad.ravel()
+
+    def callback(flat: FloatArray) -> None:
+        state["it"] += 1
+        report(state["it"], iters, f"objective {state['f']:.6g} of {n}")
+
+    res = minimize(fun, a0.ravel(), jac=True, method="L-BFGS-B", callback=callback, tol=tol,
+                   options={"maxiter": iters})
+    a = res.x.reshape(k, d)
+    # deterministic signs: each output coordinate's largest projection positive
+    emb = x @ a.T
+    big = np.argmax(np.abs(emb), axis=0)
+    sign = np.where(emb[big, np.arange(k)] < 0, -1.0, 1.0)
+    a = a * sign[:, None]
+    emb = emb * sign
+    converged = res.status == 0  # 1: iteration limit
+    if not converged:
+        warnings.warn(f"NCA stopped after {int(res.nit)} iterations before the objective "
+                      f"changed by less than {tol:g}.", ConvergenceWarning, stacklevel=2)
+    objective = -float(res.fun)
+    nearest = _nearest(emb, emb, exclude_self=True)
+    if q is not None:
+        q_emb = q @ a.T
+        q_pred = classes[y[_nearest(q_emb, emb, exclude_self=False)]].tolist()
+    else:
+        q_emb = np.zeros((0, k))
+        q_pred = []
+    return NCAResult(
+        embedding=np.ascontiguousarray(emb),
+        transform=np.ascontiguousarray(a),
+        objective=objective,
+        accuracy=float(np.mean(y[nearest] == y)),
+        query_embedding=np.ascontiguousarray(q_emb),
+        query_predictions=q_pred,
+        trustworthiness=trustworthiness(x, emb),
+        iterations=int(res.nit),
+        converged=converged,
+    )
+
+
+def _initial(x: FloatArray, y: IntArray, k: int, c: int, init: str, seed: RngLike
+             ) -> FloatArray:
+    n, d = x.shape
+    if init == "auto":
+        init = "lda" if k <= min(d, c - 1) else ("pca" if k < d else "identity")
+    if init == "identity":
+        return np.eye(k, d)
+    if init == "random":
+        return np.random.default_rng(seed).standard_normal((k, d))
+    if init == "pca":
+        _, _, vt = la.svd(x - x.mean(axis=0), full_matrices=False, check_finite=False)
+        out = np.zeros((k, d))
+        out[:min(k, vt.shape[0])] = vt[:k]
+        return fix_signs(out.T).T
+    from algorithms.classification.lda import lda  # "lda"
+
+    if k > min(d, c - 1):
+        raise InvalidInputError(
+            f"Expected `n_components` to be at most min(classes - 1, dimension) = "
+            f"{min(d, c - 1)} with init='lda', got {k}.", field="n_components")
+    try:
+        return lda(x, y, n_components=k).scalings.T
+    except DegenerateInputError:  # the classes differ only where they are flat
+        return _initial(x, y, k, c, "pca" if k < d else "identity", seed)
+
+
+def _nearest(a: FloatArray, b: FloatArray, *, exclude_self: bool) -> IntArray:
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(b)
+    if exclude_self:
+        _, idx = tree.query(a, k=2)
+        own = idx[:, 0] == np.arange(a.shape[0])
+        return np.where(own, idx[:, 1], idx[:, 0])
+    _, idx = tree.query(a, k=1)
+    return np.asarray(idx)

@@ -1,0 +1,13 @@
+"""Clustering: unlabelled points (or a graph) in, a partition out.
+
+* :func:`spectral` — k-means on the normalised-Laplacian embedding (Ng, Jordan, Weiss);
+* :func:`markov` — Markov clustering (MCL) by expansion and inflation.
+
+Both build the neighbour graph of the points with the shared parameters ``neighbors``
+(knn, radius, all), ``n_neighbors``, ``radius``, ``weighting`` (uniform, distance, heat).
+"""
+
+from algorithms.clustering.markov import MarkovClusteringResult, markov
+from algorithms.clustering.spectral import SpectralClusteringResult, spectral
+
+__all__ = ["MarkovClusteringResult", "markov", "SpectralClusteringResult", "spectral"]

@@ -1,0 +1,217 @@
+r"""Spectral clustering (Ng, Jordan and Weiss): k-means on the bottom eigenvectors of the
+normalised graph Laplacian."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg as la
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+from scipy.sparse.linalg import eigsh
+
+from algorithms.clustering._graph import neighbour_graph
+from algorithms.clustering._kmeans import kmeans
+from algorithms.core.errors import InvalidInputError
+from algorithms.core.laplacian import normalized_laplacian
+from algorithms.core.types import FloatArray, IntArray, RngLike
+from algorithms.core.validation import as_int, as_points
+
+__all__ = ["SpectralClusteringResult", "spectral", "DENSE_BELOW"]
+
+#: Below this many points the eigenvectors come from a dense symmetric eigensolver.
+DENSE_BELOW = 2500
+
+
+@dataclass(frozen=True, eq=False)
+class SpectralClusteringResult:
+    """A partition of the points into ``n_clusters`` groups, and the embedding it came from.
+
+    Attributes
+    ----------
+    labels : (n,) int array
+        The cluster of each point, ``0 .. n_clusters - 1``, numbered in order of first
+        appearance (point 0 is in cluster 0).
+    sizes : (n_clusters,) int array
+        The number of points in each cluster.
+    embedding : (n, n_clusters) float array
+        The spectral embedding k-means ran on: the bottom eigenvectors of the symmetric
+        normalised Laplacian, each row scaled to unit length; each column's largest entry
+        (in absolute value) is positive.
+    eigenvalues : (n_clusters,) float array
+        The matching eigenvalues of :math:`I - D^{-1/2} W D^{-1/2}`, ascending, in [0, 2].
+    inertia : float
+        The k-means objective: the sum of squared distances of the embedded points to their
+        cluster centre.
+    graph_components : int
+        The number of connected components of the neighbour graph (a component is never
+        split across fewer clusters than it would need; more components than clusters is
+        reported with a warning).
+    """
+
+    labels: IntArray
+    sizes: IntArray
+    embedding: FloatArray
+    eigenvalues: FloatArray
+    inertia: float
+    graph_components: int
+
+
+def spectral(
+    points: Any,
+    *,
+    n_clusters: int = 8,
+    neighbors: str = "knn",
+    n_neighbors: int = 10,
+    radius: float | None = None,
+    weighting: str = "uniform",
+    sigma: float | None = None,
+    n_init: int = 10,
+    seed: RngLike = 0,
+) -> SpectralClusteringResult:
+    r"""Cluster points by k-means on the spectral embedding of their neighbour graph.
+
+    With :math:`W` the weights of the neighbour graph and :math:`D` its degrees, the
+    embedding is made of the eigenvectors :math:`u_1, \dots, u_k` of the ``k = n_clusters``
+    smallest eigenvalues of the symmetric normalised Laplacian
+
+    .. math:: L_\mathrm{sym} = D^{-1/2} (D - W) D^{-1/2} = I - D^{-1/2} W D^{-1/2},
+
+    its rows scaled to unit length (Ng, Jordan and Weiss); k-means with k-means++ seeding
+    (``n_init`` starts, the best kept) then groups the rows.
+
+    Parameters
+    ----------
+    points : (n, d) float array
+    n_clusters : int, default 8
+        The number of clusters ``k``, ``1 <= k <= n``.
+    neighbors : {"knn", "radius", "all"}, default "knn"
+        The neighbour graph: each point joined to its ``n_neighbors`` nearest (union), to
+        every point within ``radius``, or to every point.
+    n_neighbors : int, default 10
+        For ``"knn"``; at most ``n - 1``.
+    radius : float, optional
+        For ``"radius"``; required there.
+    weighting : {"uniform", "distance", "heat"}, default "uniform"
+        Edge weights: 1 (scikit-learn's ``affinity="nearest_neighbors"``), :math:`1/d`, or
+        the heat kernel :math:`e^{-d^2/2\sigma^2}`.
+    sigma : float, optional
+        The heat kernel's width; the mean edge length by default.
+    n_init : int, default 10
+        k-means++ starts; the one with the least inertia is kept.
+    seed : int or numpy Generator, default 0
+        Seeds k-means++; the same seed gives the same labels.
+
+    Returns
+    -------
+    SpectralClusteringResult
+        ``labels``, ``sizes``, ``embedding``, ``eigenvalues``, ``inertia``,
+        ``graph_components``.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad ``points``; ``n_clusters`` outside ``[1, n]``; ``n_neighbors`` outside
+        ``[1, n - 1]``; ``neighbors="radius"`` without ``radius``; an unknown option.
+    DegenerateInputError
+        Coincident points with ``weighting="distance"`` (infinite weight).
+
+    Warns
+    -----
+    UserWarning
+        The neighbour graph has more connected components than ``n_clusters``: some
+        clusters then hold several components (as scikit-learn, which warns too). Fewer
+        components than clusters is the normal case; isolated points (no neighbour within
+        ``radius``) embed at the origin and join the cluster nearest to it.
+
+    Notes
+    -----
+    The seed document describes the method plainly: adjust the data's shape by a graph
+    Laplacian analysis, then run k-means ("that is all; it has little to do with
+    'spectral'"). It disputes the claim, found in the literature, that the method solves a
+    relaxation of a cut problem exactly: cut indicators are 0/1 vectors, the eigenvectors
+    are not, so the eigenvectors are only a relaxed embedding and the k-means step is what
+    makes the partition discrete. We follow the seed and present it that way.
+
+    Eigenvectors: a dense symmetric eigensolver below ``DENSE_BELOW`` points; above, the
+    Lanczos solver (ARPACK) on :math:`I + D^{-1/2} W D^{-1/2}` (eigenvalues in [0, 2],
+    the wanted ones largest). scikit-learn's ``SpectralClustering`` differs in three
+    details: it averages the two directions of the kNN relation (weight ½ for one-sided
+    neighbours), embeds :math:`D^{-1/2} u` without row normalisation, and seeds ARPACK
+    randomly; its labels agree with ours on well-separated data (tests compare adjusted
+    Rand indices).
+
+    References
+    ----------
+    .. [1] A. Y. Ng, M. I. Jordan, Y. Weiss, "On spectral clustering: analysis and an
+       algorithm", NIPS 2001.
+    .. [2] U. von Luxburg, "A tutorial on spectral clustering", Statistics and Computing
+       17(4), 2007.
+    .. [3] D. Arthur, S. Vassilvitskii, "k-means++: the advantages of careful seeding",
+       SODA 2007.
+
+    Examples
+    --------
+    >>> pts = [[0, 0], [0, 1], [1, 0], [10, 10], [10, 11], [11, 10]]
+    >>> res = spectral(pts, n_clusters=2, n_neighbors=2)
+    >>> res.labels.tolist(), res.sizes.tolist()
+    ([0, 0, 0, 1, 1, 1], [3, 3])
+    """
+    x = as_points(points, name="points", min_points=2)
+    n = x.shape[0]
+    k = as_int(n_clusters, name="n_clusters", minimum=1, maximum=n,
+               reason="the number of `points`")
+    n_init = as_int(n_init, name="n_init", minimum=1)
+    w = neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
+                        weighting=weighting, sigma=sigma)
+    ncomp = int(connected_components(w, directed=False)[0])
+    if ncomp > k:
+        warnings.warn(f"The neighbour graph of `points` has {ncomp} connected components, "
+                      f"more than n_clusters={k}: some clusters hold several components.",
+                      UserWarning, stacklevel=2)
+    vals, vecs = _bottom_eigenvectors(w, k)
+    # deterministic signs: each column's largest entry positive
+    big = np.argmax(np.abs(vecs), axis=0)
+    vecs *= np.where(vecs[big, np.arange(k)] < 0, -1.0, 1.0)
+    norms = np.linalg.norm(vecs, axis=1, keepdims=True)
+    emb = np.divide(vecs, norms, out=np.zeros_like(vecs), where=norms > 1e-300)
+    fit = kmeans(emb, k, n_init=n_init, seed=seed)
+    sizes = np.bincount(fit.labels, minlength=k)
+    return SpectralClusteringResult(
+        labels=fit.labels,
+        sizes=sizes.astype(np.int64),
+        embedding=emb,
+        eigenvalues=vals,
+        inertia=fit.inertia,
+        graph_components=ncomp,
+    )
+
+
+def _bottom_eigenvectors(w: sp.csr_array, k: int) -> tuple[FloatArray, FloatArray]:
+    """The ``k`` smallest eigenpairs of the symmetric normalised Laplacian of ``w``."""
+    lap = normalized_laplacian(w, kind="symmetric")
+    n = lap.shape[0]
+    deg = np.asarray(w.sum(axis=1)).ravel()
+    isolated = deg <= 0
+    if isolated.any():  # their rows are zero: eigenvalue 0, to keep them out of the way
+        lap = (lap + sp.diags_array(np.where(isolated, 1.0, 0.0))).tocsr()
+    if n < DENSE_BELOW or k >= n - 1:
+        vals, vecs = la.eigh(lap.toarray(), subset_by_index=(0, k - 1))
+    else:
+        shifted = (2.0 * sp.eye_array(n, format="csr") - lap).tocsr()
+        v0 = np.sqrt(np.maximum(deg, 1e-12))  # the bottom eigenvector: deterministic start
+        try:
+            vals, vecs = eigsh(shifted, k=k, which="LA", v0=v0 / np.linalg.norm(v0),
+                               tol=1e-10, maxiter=max(1000, 20 * n))
+        except Exception as exc:  # noqa: BLE001  (ARPACK non-convergence)
+            raise InvalidInputError(
+                f"The eigenvectors of the neighbour graph of `points` did not converge "
+                f"({exc}); try more `n_neighbors`.", field="points") from None
+        vals = 2.0 - vals
+        order = np.argsort(vals, kind="stable")
+        vals, vecs = vals[order], vecs[:, order]
+    vals = np.clip(vals, 0.0, 2.0)
+    return np.ascontiguousarray(vals), np.ascontiguousarray(vecs)
