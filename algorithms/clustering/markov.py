@@ -11,10 +11,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from algorithms.clustering._graph import neighbour_graph
 from algorithms.clustering._kmeans import canonical_labels
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
-from algorithms.core.graphs import edge_graph
+from algorithms.core.graphs import edge_graph, neighbour_graph
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_float, as_int, as_points

@@ -13,9 +13,9 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import eigsh
 
-from algorithms.clustering._graph import neighbour_graph
 from algorithms.clustering._kmeans import kmeans
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.graphs import neighbour_graph
 from algorithms.core.laplacian import normalized_laplacian
 from algorithms.core.types import FloatArray, IntArray, RngLike
 from algorithms.core.validation import as_int, as_points

@@ -8,7 +8,15 @@ from algorithms.core.errors import (
     GeometryError,
     InvalidInputError,
 )
-from algorithms.core.graphs import edge_graph, knn_graph, radius_graph, weight
+from algorithms.core.graphs import (
+    check_connected,
+    check_n_neighbors,
+    edge_graph,
+    knn_graph,
+    neighbour_graph,
+    radius_graph,
+    weight,
+)
 from algorithms.core.laplacian import (
     cotangent_entries,
     cotangent_laplacian,
@@ -106,6 +114,9 @@ __all__ = [
     "knn_graph",
     "radius_graph",
     "weight",
+    "neighbour_graph",
+    "check_n_neighbors",
+    "check_connected",
     # Laplacians
     "cotangent_entries",
     "tangent_entries",

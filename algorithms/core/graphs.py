@@ -11,7 +11,11 @@ edge set.
   mutual agreement (a kd-tree: :class:`scipy.spatial.cKDTree`);
 * :func:`radius_graph` — every pair closer than ``r``;
 * :func:`weight` — uniform (1), inverse distance (:math:`1/d`) or heat kernel
-  (:math:`e^{-d^2/(2\sigma^2)}`, Belkin & Niyogi 2003).
+  (:math:`e^{-d^2/(2\sigma^2)}`, Belkin & Niyogi 2003);
+* :func:`neighbour_graph` — the shared graph parameters of the point-cloud methods
+  (clustering, embeddings: ``neighbors``, ``n_neighbors``, ``radius``, ``weighting``,
+  ``sigma``) turned into one of the graphs above, weighted; :func:`check_n_neighbors` and
+  :func:`check_connected` are its checks, also used on their own.
 
 Then :func:`algorithms.core.laplacian.laplacian` gives ``L = D - W``.
 """
@@ -22,12 +26,23 @@ from typing import Any, Literal
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
+from scipy.spatial.distance import pdist, squareform
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.validation import as_choice, as_float, as_indices, as_int, as_points
 
-__all__ = ["edge_graph", "knn_graph", "radius_graph", "weight", "graph_from_pairs"]
+__all__ = ["edge_graph", "knn_graph", "radius_graph", "weight", "graph_from_pairs",
+           "neighbour_graph", "check_n_neighbors", "check_connected", "NEIGHBORS",
+           "WEIGHTINGS", "MAX_COMPLETE"]
+
+#: Accepted values of ``neighbors`` and ``weighting`` in :func:`neighbour_graph`.
+NEIGHBORS = ("knn", "radius", "all")
+WEIGHTINGS = ("uniform", "distance", "heat")
+
+#: Most points for ``neighbors="all"`` (a dense ``n×n`` graph: 10,000 points, 800 MB).
+MAX_COMPLETE = 10_000
 
 
 def graph_from_pairs(n: int, i: Any, j: Any, data: Any) -> sp.csr_array:
@@ -264,3 +279,166 @@ def weight(adjacency: Any, kind: Literal["uniform", "distance", "heat"] = "unifo
             s = as_float(sigma, name="sigma", minimum=0.0, inclusive=False)
         g.data = np.exp(-(d * d) / (2.0 * s * s))
     return g
+
+
+def check_n_neighbors(n: int, n_neighbors: Any, *, name: str = "points") -> int:
+    """Check ``n_neighbors`` for a kNN graph of ``n`` points and return it as an ``int``.
+
+    Parameters
+    ----------
+    n : int
+        The number of points.
+    n_neighbors : int
+        Neighbours per point, ``1 <= n_neighbors <= n - 1`` (a point is not its own
+        neighbour).
+    name : str, default "points"
+        Names the points in the error.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InvalidInputError
+        ``n_neighbors`` not an integer, below 1 or above ``n - 1`` (field ``n_neighbors``).
+
+    Examples
+    --------
+    >>> check_n_neighbors(6, 5.0)
+    5
+    """
+    k = as_int(n_neighbors, name="n_neighbors", minimum=1)
+    if k > n - 1:
+        raise InvalidInputError(
+            f"Expected `n_neighbors` to be an integer <= {n - 1}, at most the number of "
+            f"`{name}` minus one, got {k}; give more points or fewer neighbours.",
+            field="n_neighbors")
+    return k
+
+
+def check_connected(graph: Any, *, neighbors: str, method: str) -> None:
+    """Raise unless a symmetric graph is connected, naming its number of components.
+
+    Every neighbourhood-graph embedding (Isomap, Laplacian eigenmaps, LPP, LLE) would
+    otherwise return unrelated pieces: Isomap infinite geodesic distances, the spectral
+    methods one zero eigenvalue per component.
+
+    Parameters
+    ----------
+    graph : (n, n) sparse array
+        Symmetric; its stored entries (explicit zeros included) are the edges.
+    neighbors : {"knn", "radius", "all"}
+        How the graph was built: the error names the parameter to increase
+        (``n_neighbors``, ``radius``; ``points`` otherwise).
+    method : str
+        The method named in the error, e.g. ``"isomap"``.
+
+    Raises
+    ------
+    DegenerateInputError
+        More than one connected component.
+
+    Examples
+    --------
+    >>> check_connected(edge_graph(3, [[0, 1], [1, 2]]), neighbors="knn", method="isomap")
+    """
+    count = int(connected_components(graph, directed=False)[0])
+    if count > 1:
+        field = {"knn": "n_neighbors", "radius": "radius"}.get(neighbors, "points")
+        hint = {"knn": "increase `n_neighbors`", "radius": "increase `radius`"}.get(
+            neighbors, "the points")
+        raise DegenerateInputError(
+            f"Expected a connected neighbourhood graph for {method}, got {count} connected "
+            f"components ({hint}, or embed each part on its own).", field=field)
+
+
+def neighbour_graph(points: Any, *, neighbors: str, n_neighbors: Any = None,
+                    radius: Any = None, weighting: str | None = None, sigma: Any = None,
+                    connected: str | None = None, name: str = "points") -> sp.csr_array:
+    r"""The symmetric neighbourhood graph of a point cloud for the shared graph parameters.
+
+    The parameters have the same names in every point-cloud method (spectral and Markov
+    clustering, Isomap, Laplacian eigenmaps, LPP) and in the service.
+
+    Parameters
+    ----------
+    points : (n, d) float array
+    neighbors : {"knn", "radius", "all"}
+        ``"knn"``: each point to its ``n_neighbors`` nearest, symmetrised by union
+        (:func:`knn_graph`); ``"radius"``: every pair within ``radius``
+        (:func:`radius_graph`); ``"all"``: every pair (at most :data:`MAX_COMPLETE` points).
+    n_neighbors : int, optional
+        Required with ``"knn"``: ``1 <= n_neighbors <= n - 1`` (:func:`check_n_neighbors`).
+    radius : float, optional
+        Required with ``"radius"``: ``radius > 0``.
+    weighting : {"uniform", "distance", "heat"}, optional
+        The edge weights (:func:`weight`): :math:`1`, :math:`1/d` or
+        :math:`e^{-d^2/(2\sigma^2)}`. Omitted: the edge lengths :math:`d` themselves.
+    sigma : float, optional
+        The heat kernel's width, ``> 0``; the mean edge length when omitted. Checked
+        whatever the ``weighting``.
+    connected : str, optional
+        Require a connected graph (:func:`check_connected`, checked before weighting),
+        naming this method in the error; no check when omitted.
+    name : str, default "points"
+        Names the points in errors.
+
+    Returns
+    -------
+    (n, n) csr_array
+        Symmetric, zero diagonal, sorted indices; coincident points are joined by explicit
+        zero-length edges when ``weighting`` is omitted.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown ``neighbors`` or ``weighting``; ``n_neighbors``, ``radius`` or ``sigma``
+        missing or out of range; more than :data:`MAX_COMPLETE` points with ``"all"``.
+    DegenerateInputError
+        A split graph when ``connected`` is given; coincident points with
+        ``weighting="distance"``.
+
+    Examples
+    --------
+    >>> g = neighbour_graph([[0, 0], [1, 0], [3, 0]], neighbors="knn", n_neighbors=1)
+    >>> g.toarray().tolist()
+    [[0.0, 1.0, 0.0], [1.0, 0.0, 2.0], [0.0, 2.0, 0.0]]
+    >>> neighbour_graph([[0, 0], [1, 0], [3, 0]], neighbors="all",
+    ...                 weighting="distance").toarray()[0].tolist()
+    [0.0, 1.0, 0.3333333333333333]
+    """
+    neighbors = as_choice(neighbors, NEIGHBORS, name="neighbors")
+    if weighting is not None:
+        weighting = as_choice(weighting, WEIGHTINGS, name="weighting")
+    if sigma is not None:
+        sigma = as_float(sigma, name="sigma", minimum=0.0, inclusive=False)
+    x = as_points(points, name=name)
+    n = x.shape[0]
+    if neighbors == "knn":
+        g = knn_graph(x, check_n_neighbors(n, n_neighbors, name=name), name=name)
+    elif neighbors == "radius":
+        if radius is None:
+            raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
+                                    field="radius")
+        g = radius_graph(x, as_float(radius, name="radius", minimum=0.0, inclusive=False),
+                         name=name)
+    else:
+        if n > MAX_COMPLETE:
+            raise InvalidInputError(
+                f"Expected at most {MAX_COMPLETE:,} `{name}` with neighbors='all' (a dense n×n "
+                f"graph), got {n:,}; use neighbors='knn'.", field="neighbors")
+        d = squareform(pdist(x)) if n > 1 else np.zeros((n, n))
+        iu = np.triu_indices(n, 1)
+        vals = d[iu]
+        del d
+        # every pair is an edge: coincident pairs stay as explicit zero lengths
+        g = sp.csr_array((np.concatenate([vals, vals]),
+                          (np.concatenate([iu[0], iu[1]]), np.concatenate([iu[1], iu[0]]))),
+                         shape=(n, n))
+        g.sort_indices()
+    if connected is not None:
+        check_connected(g, neighbors=neighbors, method=connected)
+    if weighting is None:
+        return g
+    return weight(g, weighting, sigma=sigma, name=name)  # type: ignore[arg-type]

@@ -8,10 +8,10 @@ from typing import Any
 import numpy as np
 from scipy.sparse.csgraph import shortest_path
 
+from algorithms.core.graphs import neighbour_graph
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_int, as_points
-from algorithms.embedding._graph import check_connected, distance_graph
 from algorithms.embedding._quality import trustworthiness
 from algorithms.layout.mds import classical_coordinates
 
@@ -128,8 +128,8 @@ def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     k = as_int(n_components, name="n_components", minimum=1, maximum=n,
                reason=f"the number of `points` ({n})")
     as_choice(weighting, ("distance", "uniform"), name="weighting")
-    g = distance_graph(x, neighbors, n_neighbors, radius)
-    check_connected(g, neighbors, method="isomap")
+    g = neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
+                        connected="isomap")
     if weighting == "uniform":
         g.data = np.ones_like(g.data)
     geo = shortest_path(g, method="D", directed=True)  # g is symmetric

@@ -11,14 +11,14 @@ import scipy.linalg as la
 import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
+from algorithms.core.graphs import neighbour_graph
 from algorithms.core.laplacian import laplacian as graph_laplacian
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_int, as_points
-from algorithms.embedding._graph import similarity_graph
 from algorithms.embedding._quality import fix_signs, trustworthiness
 
 __all__ = ["LaplacianEigenmapsResult", "laplacian_eigenmaps", "LAPLACIANS",
-           "spectral_embedding"]
+           "spectral_embedding", "similarity_graph"]
 
 #: The accepted values of ``laplacian``.
 LAPLACIANS = ("random_walk", "symmetric", "unnormalized")
@@ -26,6 +26,19 @@ LAPLACIANS = ("random_walk", "symmetric", "unnormalized")
 #: Up to this many points the eigenproblem is solved densely (LAPACK); above, by
 #: shift-invert Lanczos (ARPACK) on the sparse Laplacian.
 _DENSE_BELOW = 1000
+
+
+def similarity_graph(x: FloatArray, neighbors: str, n_neighbors: Any, radius: float | None,
+                     weighting: str, sigma: float | None, *, method: str) -> sp.csr_array:
+    """The connected, weighted neighbourhood graph of the spectral embeddings (LE, LPP).
+
+    :func:`algorithms.core.graphs.neighbour_graph` with ``connected=method``; ``n_neighbors``
+    omitted is scikit-learn's ``SpectralEmbedding`` default, ``max(n // 10, 1)``.
+    """
+    if n_neighbors is None:
+        n_neighbors = max(x.shape[0] // 10, 1)
+    return neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
+                           weighting=weighting, sigma=sigma, connected=method)
 
 
 @dataclass(frozen=True, eq=False)

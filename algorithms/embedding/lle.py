@@ -11,9 +11,9 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.graphs import check_connected
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_float, as_int, as_points
-from algorithms.embedding._graph import check_connected
 from algorithms.embedding._quality import fix_signs, trustworthiness
 from algorithms.embedding.laplacian_eigenmaps import _smallest
 
@@ -208,7 +208,7 @@ def lle(points: Any, *, n_components: int = 2, neighbors: str = "knn", n_neighbo
     w = barycenter_weights(x, nbrs, reg)
     pattern = w.copy()
     pattern.data = np.ones_like(pattern.data)
-    check_connected(((pattern + pattern.T) > 0).astype(np.float64), neighbors,
+    check_connected(((pattern + pattern.T) > 0).astype(np.float64), neighbors=neighbors,
                     method="locally linear embedding")
     i_w = (sp.eye_array(n, format="csr") - w).tocsr()
     mat = (i_w.T @ i_w).tocsr()

@@ -13,9 +13,8 @@ from algorithms.core.errors import DegenerateInputError
 from algorithms.core.laplacian import laplacian as graph_laplacian
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_points
-from algorithms.embedding._graph import similarity_graph
 from algorithms.embedding._quality import fix_signs, trustworthiness
-from algorithms.embedding.laplacian_eigenmaps import LAPLACIANS
+from algorithms.embedding.laplacian_eigenmaps import LAPLACIANS, similarity_graph
 from algorithms.embedding.pca import check_linear_components
 
 __all__ = ["LPPResult", "lpp", "lpp_from_weights"]

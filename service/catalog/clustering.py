@@ -16,8 +16,8 @@ from algorithms.clustering import (
     markov,
     spectral,
 )
-from algorithms.clustering._graph import check_neighbours
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.graphs import check_n_neighbors
 from service.catalog.base import Params
 from service.catalog.inputs import Points
 from service.catalog.layout import GraphInput
@@ -42,7 +42,7 @@ class _GraphParams(Params):
 
     def _check_graph(self, n: int) -> None:
         if self.neighbors == "knn":
-            check_neighbours(n, self.n_neighbors)
+            check_n_neighbors(n, self.n_neighbors)
         if self.neighbors == "radius" and self.radius is None:
             raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
                                     field="radius")

@@ -1,5 +1,5 @@
-"""Tests for algorithms.core.graphs: edge, kNN and radius graphs and their weights, against
-brute force and scikit-learn."""
+"""Tests for algorithms.core.graphs: edge, kNN and radius graphs, their weights and the shared
+neighbour graph of the point-cloud methods, against brute force and scikit-learn."""
 
 from __future__ import annotations
 
@@ -10,7 +10,16 @@ from scipy.spatial.distance import cdist
 from sklearn.neighbors import kneighbors_graph, radius_neighbors_graph
 
 from algorithms.core import DegenerateInputError, InvalidInputError
-from algorithms.core.graphs import edge_graph, knn_graph, radius_graph, weight
+from algorithms.core.graphs import (
+    MAX_COMPLETE,
+    check_connected,
+    check_n_neighbors,
+    edge_graph,
+    knn_graph,
+    neighbour_graph,
+    radius_graph,
+    weight,
+)
 
 
 def cloud(n=150, d=3, seed=0):
@@ -201,3 +210,109 @@ def test_weight_rejects_bad_input():
                        r"lengths, got -2.0\.") as info:
         weight(edge_graph(2, [[0, 1]], [-2.0]), "heat")
     assert info.value.field == "adjacency"
+
+
+# --- neighbour_graph, check_n_neighbors, check_connected ----------------------------------
+
+
+def test_neighbour_graph_by_hand():
+    x = [[0.0, 0], [1, 0], [3, 0]]
+    knn = neighbour_graph(x, neighbors="knn", n_neighbors=1)
+    assert knn.toarray().tolist() == [[0, 1, 0], [1, 0, 2], [0, 2, 0]]
+    rad = neighbour_graph(x, neighbors="radius", radius=1.5, weighting="uniform")
+    assert rad.toarray().tolist() == [[0, 1, 0], [1, 0, 0], [0, 0, 0]]
+    full = neighbour_graph(x, neighbors="all", weighting="distance").toarray()
+    np.testing.assert_allclose(full, [[0, 1, 1 / 3], [1, 0, 0.5], [1 / 3, 0.5, 0]])
+    heat = neighbour_graph(x, neighbors="all", weighting="heat", sigma=1.0).toarray()
+    np.testing.assert_allclose(heat[0, 2], np.exp(-9 / 2))
+
+
+@pytest.mark.parametrize("neighbors, kw", [("knn", {"n_neighbors": 6}),
+                                           ("radius", {"radius": 1.2}),
+                                           ("all", {})])
+@pytest.mark.parametrize("weighting", [None, "uniform", "distance", "heat"])
+def test_neighbour_graph_is_the_core_builder_then_weight(neighbors, kw, weighting):
+    x = cloud(60, 3, seed=7)
+    lengths = {"knn": lambda: knn_graph(x, 6), "radius": lambda: radius_graph(x, 1.2),
+               "all": lambda: radius_graph(x, 1e9)}[neighbors]()
+    ref = lengths if weighting is None else weight(lengths, weighting)
+    g = neighbour_graph(x, neighbors=neighbors, weighting=weighting, **kw)
+    assert g.has_sorted_indices and (g != g.T).nnz == 0 and (g.diagonal() == 0).all()
+    same_graph(g, ref)
+
+
+def test_neighbour_graph_all_matches_sklearn_rbf():
+    from sklearn.metrics.pairwise import rbf_kernel
+
+    x = cloud(40, 2, seed=8)
+    ref = rbf_kernel(x, gamma=1 / (2 * 0.7**2))
+    np.fill_diagonal(ref, 0)
+    g = neighbour_graph(x, neighbors="all", weighting="heat", sigma=0.7)
+    np.testing.assert_allclose(g.toarray(), ref, rtol=1e-12)
+
+
+def test_neighbour_graph_all_keeps_coincident_pairs_as_edges():
+    g = neighbour_graph([[0.0, 0], [0, 0], [1, 1]], neighbors="all")
+    assert g.nnz == 6 and g[0, 1] == 0
+    assert neighbour_graph([[2.0, 3.0]], neighbors="all").shape == (1, 1)
+
+
+def test_neighbour_graph_rejects_bad_input():
+    x = cloud(6, 2)
+    cases = [
+        ({"neighbors": "grid"}, "neighbors", r"`neighbors` to be one of 'knn', 'radius', 'all'"),
+        ({"neighbors": "knn", "n_neighbors": 6}, "n_neighbors",
+         r"`n_neighbors` to be an integer <= 5, at most the number of `points` minus one, "
+         r"got 6; give more points or fewer neighbours\."),
+        ({"neighbors": "knn"}, "n_neighbors", r"`n_neighbors` to be an integer, got None"),
+        ({"neighbors": "radius"}, "radius", r"Expected `radius` with neighbors='radius', got none"),
+        ({"neighbors": "radius", "radius": 0.0}, "radius", r"`radius` to be a number > 0"),
+        ({"neighbors": "all", "weighting": "cotangent"}, "weighting",
+         r"`weighting` to be one of 'uniform', 'distance', 'heat'"),
+        ({"neighbors": "all", "weighting": "uniform", "sigma": -1.0}, "sigma",
+         r"`sigma` to be a number > 0"),
+    ]
+    for kw, field, match in cases:
+        with pytest.raises(InvalidInputError, match=match) as info:
+            neighbour_graph(x, **kw)
+        assert info.value.field == field
+    with pytest.raises(InvalidInputError, match=r"at most 10,000 `points` with neighbors='all'"
+                       ) as info:
+        neighbour_graph(np.zeros((MAX_COMPLETE + 1, 1)), neighbors="all")
+    assert info.value.field == "neighbors"
+    with pytest.raises(DegenerateInputError, match=r"got points 0 and 1 at distance 0"):
+        neighbour_graph([[0.0, 0], [0, 0], [1, 1]], neighbors="all", weighting="distance")
+
+
+def test_neighbour_graph_connected_checks_before_weighting():
+    x = np.r_[cloud(10, 2, seed=1), cloud(10, 2, seed=2) + 100]
+    x[1] = x[0]                                                     # a zero length as well
+    with pytest.raises(DegenerateInputError, match=r"for spectral, got 2 connected "
+                       r"components \(increase `n_neighbors`") as info:
+        neighbour_graph(x, neighbors="knn", n_neighbors=3, weighting="distance",
+                        connected="spectral")
+    assert info.value.field == "n_neighbors"
+    g = neighbour_graph(x, neighbors="knn", n_neighbors=3)          # no check by default
+    assert g.shape == (20, 20)
+
+
+def test_check_n_neighbors():
+    assert check_n_neighbors(6, 5.0) == 5 and isinstance(check_n_neighbors(6, 5.0), int)
+    with pytest.raises(InvalidInputError, match=r"`n_neighbors` to be an integer >= 1, got 0"):
+        check_n_neighbors(6, 0)
+    with pytest.raises(InvalidInputError, match=r"minus one, got 3") as info:
+        check_n_neighbors(3, 3, name="nodes")
+    assert "`nodes`" in str(info.value) and info.value.field == "n_neighbors"
+
+
+@pytest.mark.parametrize("neighbors, field, hint", [("knn", "n_neighbors", "increase `n_neighbors`"),
+                                                     ("radius", "radius", "increase `radius`"),
+                                                     ("all", "points", "the points")])
+def test_check_connected(neighbors, field, hint):
+    check_connected(edge_graph(3, [[0, 1], [1, 2]]), neighbors=neighbors, method="isomap")
+    check_connected(edge_graph(2, [[0, 1]], [0.0]), neighbors=neighbors, method="isomap")
+    split = edge_graph(5, [[0, 1], [2, 3]])
+    with pytest.raises(DegenerateInputError, match=rf"for isomap, got 3 connected components "
+                       rf"\({hint}, or embed each part on its own\)\.") as info:
+        check_connected(split, neighbors=neighbors, method="isomap")
+    assert info.value.field == field

@@ -12,7 +12,7 @@ from sklearn.manifold import SpectralEmbedding
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.embedding import laplacian_eigenmaps
-from algorithms.embedding._graph import similarity_graph
+from algorithms.embedding.laplacian_eigenmaps import similarity_graph
 from algorithms.embedding.laplacian_eigenmaps import spectral_embedding
 
 DATA = {
