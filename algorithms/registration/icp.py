@@ -604,10 +604,12 @@ def _initial_transforms(init: Any, src: FloatArray, dst: FloatArray, model: str
             m[:d, d] = y_mean - linear @ x_mean
             out.append(m)
         return out
-    return [_check_init(init, d, model)]
+    return [check_init(init, d, model)]
 
 
-def _check_init(init: Any, d: int, model: str) -> FloatArray:
+def check_init(init: Any, d: int, model: str) -> FloatArray:
+    """A start matrix checked for dimension ``d`` and ``model``: (d+1)×(d+1), finite,
+    homogeneous last row, and of the model's kind (a rotation for rigid, and so on)."""
     m = as_points(init, name="init")
     if m.shape != (d + 1, d + 1):
         raise InvalidInputError(

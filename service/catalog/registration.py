@@ -9,7 +9,8 @@ from pydantic import Field, PlainSerializer, PlainValidator, WithJsonSchema, mod
 
 from algorithms.core.validation import as_choice, as_points, same_dim
 from algorithms.registration import ICPResult, icp
-from algorithms.registration.icp import INITS
+from algorithms.registration._normals import given_normals
+from algorithms.registration.icp import INITS, check_init
 from service.catalog.base import Params
 from service.catalog.inputs import Points
 from service.catalog.registry import Process, registry
@@ -85,8 +86,16 @@ class ICPParams(Params):
                                   "normal.")
 
     @model_validator(mode="after")
-    def _same_dim(self) -> ICPParams:
+    def _consistent(self) -> ICPParams:
+        """What can be checked before the job runs is checked here, so that an asynchronous
+        request is refused with 422 at once instead of failing later."""
         same_dim(self.source, self.target, names=("source", "target"))
+        for normals, points, name in ((self.target_normals, self.target, "target_normals"),
+                                      (self.source_normals, self.source, "source_normals")):
+            if normals is not None:
+                given_normals(normals, points.shape[0], name=name)
+        if not isinstance(self.init, str):
+            check_init(self.init, self.source.shape[1], self.model)
         return self
 
 
