@@ -79,5 +79,6 @@ def _decode(obj: dict[str, Any], name: str) -> np.ndarray:
         raise InvalidInputError(
             f"Expected {what} of shape {tuple(shape)} and dtype {dtype.str} to hold "
             f"{expected} bytes, got {len(raw)}.", field=name)
-    return np.frombuffer(raw, dtype=dtype).reshape(shape).astype(dtype.newbyteorder("="),
-                                                                 copy=False)
+    # a writable native-order copy: frombuffer's view of the bytes is read-only, and a
+    # method that works in place on its input must not fail on binary inputs only
+    return np.frombuffer(raw, dtype=dtype).reshape(shape).astype(dtype.newbyteorder("="))

@@ -107,6 +107,7 @@ def test_the_sdk_encoder_and_the_service_decoder_agree() -> None:
         assert isinstance(sent, dict) and sent == binary_array(a)
         back = decode_arrays(sent, "x")
         assert back.shape == a.shape and back.dtype == a.dtype.newbyteorder("=")
+        assert back.flags.writeable  # methods may work in place on their inputs
         assert back.tobytes() == a.astype(a.dtype.newbyteorder("=")).tobytes()
     small = rng.normal(size=(10, 3))
     assert to_json_value(small, "x") == small.tolist()  # small arrays stay readable lists
