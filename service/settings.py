@@ -43,6 +43,10 @@ class Settings(BaseSettings):
     max_request_bytes: int = Field(
         256 * 2**20, ge=1024, description="Largest request body accepted (413 above)."
     )
+    max_input_bytes: int = Field(
+        128 * 2**20, ge=1024, description="Largest single input of a multipart upload (one "
+        "file part), in bytes (413 naming the input above)."
+    )
     max_points: int = Field(
         10_000_000, ge=1, description="Most points (rows) in one array input (422 above)."
     )

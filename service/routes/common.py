@@ -5,12 +5,23 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
 from fastapi import Request
-from service.jsonio import JSONResponse
+from starlette.responses import Response
 
 from service.auth import KeyRing, owner_of
 from service.catalog import Process, lookup
 from service.errors import ServiceError, problem_response
+from service.geometry_io import (
+    MEDIA_GLB,
+    MEDIA_JSON,
+    MEDIA_NPY,
+    encode_binary_arrays,
+    negotiate,
+    npy_bytes,
+    result_glb,
+)
+from service.jsonio import JSONResponse
 from service.jobs.engine import Engine
 from service.jobs.store import JobRecord, JobStore
 from service.metrics import Metrics
@@ -18,7 +29,7 @@ from service.representation import results_document, status_info
 from service.settings import Settings
 
 __all__ = ["State", "state", "owner", "get_process", "read_body", "parse_prefer", "job_response",
-           "get_job"]
+           "get_job", "Wanted", "results_response"]
 
 
 @dataclass
@@ -87,8 +98,62 @@ def parse_prefer(values: list[str]) -> dict[str, str | None]:
     return prefs
 
 
+@dataclass(frozen=True)
+class Wanted:
+    """How the client wants results: ``fmt`` json, glb or npy (:func:`negotiate`), and
+    whether JSON should carry arrays as typed binary arrays (``Prefer: arrays=binary``)."""
+
+    fmt: str = "json"
+    binary_arrays: bool = False
+
+    @classmethod
+    def of(cls, request: Request, f: str | None = None) -> Wanted:
+        prefs = parse_prefer(request.headers.getlist("prefer"))
+        return cls(negotiate(request.headers.get("accept"), f),
+                   prefs.get("arrays") == "binary")
+
+
+def results_response(st: State, job: JobRecord, outputs: dict[str, Any], wanted: Wanted,
+                     headers: dict[str, str] | None = None, *,
+                     only: str | None = None) -> Response:
+    """The results of a successful job in the wanted format; ``only`` names a single output
+    (``/jobs/{id}/results/{output}``), sent as its bare value."""
+    headers = dict(headers or {})
+    if only is not None:
+        if only not in outputs:
+            raise ServiceError("no-such-output", f"Job {job.id} has no output {only!r}; it "
+                               f"has {sorted(outputs)}.")
+        doc: Any = outputs[only]
+    else:
+        doc = results_document(outputs, job.request)
+    if wanted.fmt == "glb":
+        glb = result_glb(job.process, outputs, st.store.inputs(job))
+        if glb is None:
+            raise ServiceError("not-acceptable", f"The results of {job.process} hold no "
+                               f"geometry to send as {MEDIA_GLB}; ask for {MEDIA_JSON}.")
+        return Response(glb, media_type=MEDIA_GLB, headers=headers)
+    if wanted.fmt == "npy":
+        arrays = {k: v for k, v in (doc.items() if isinstance(doc, dict) and only is None
+                                     and job.request.get("response") != "raw"
+                                     else [(only or "result", doc)])
+                  if isinstance(v, np.ndarray) and v.dtype.kind in "biuf"}
+        if len(arrays) != 1:
+            names = [k for k, v in outputs.items() if isinstance(v, np.ndarray)]
+            raise ServiceError("not-acceptable", f"{MEDIA_NPY} holds one array; these "
+                               f"results have {len(arrays)}. Ask for one output: "
+                               f"/jobs/{job.id}/results/{{output}}, output one of {names}.")
+        return Response(npy_bytes(next(iter(arrays.values()))), media_type=MEDIA_NPY,
+                        headers=headers)
+    if wanted.binary_arrays:
+        doc = encode_binary_arrays(doc)
+        headers["Preference-Applied"] = ", ".join(
+            p for p in (headers.get("Preference-Applied"), "arrays=binary") if p)
+    return JSONResponse(doc, headers=headers)
+
+
 def job_response(st: State, job: JobRecord, outcome: dict[str, Any] | None,
-                 applied: str | None, *, waited: bool = True) -> JSONResponse:
+                 applied: str | None, *, waited: bool = True,
+                 wanted: Wanted = Wanted()) -> Response:
     """How an execution request is answered once its job is as far as it will get: the
     results (200), the failure as a problem, or the statusInfo (201) of a job still under way
     or of one the client asked to run asynchronously (``waited`` false)."""
@@ -104,8 +169,7 @@ def job_response(st: State, job: JobRecord, outcome: dict[str, Any] | None,
         headers["Content-Location"] = f"/jobs/{job.id}/results"
         if applied:
             headers["Preference-Applied"] = applied
-        return JSONResponse(results_document(outputs, job.request), status_code=200,
-                            headers=headers)
+        return results_response(st, job, outputs, wanted, headers)
     if job.status in ("failed", "dismissed"):
         return failure_response(job, headers)
     headers["Location"] = f"/jobs/{job.id}"

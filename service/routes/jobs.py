@@ -4,15 +4,26 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from fastapi import APIRouter, Query, Request
-from pydantic import Field
-from service.jsonio import JSONResponse
 from urllib.parse import urlencode
 
+from fastapi import APIRouter, Path, Query, Request
+from pydantic import Field
+from starlette.concurrency import run_in_threadpool
+from starlette.responses import Response
+
 from service.errors import ServiceError
-from service.representation import results_document, status_info
+from service.geometry_io import MEDIA_GLB, MEDIA_NPY
+from service.jsonio import JSONResponse
+from service.representation import status_info
 from service.routes import docs
-from service.routes.common import failure_response, get_job, owner, state
+from service.routes.common import (
+    Wanted,
+    failure_response,
+    get_job,
+    owner,
+    results_response,
+    state,
+)
 
 router = APIRouter(tags=["jobs"])
 
@@ -58,34 +69,62 @@ async def get_status(jobId: str, request: Request) -> JSONResponse:  # noqa: N80
     return JSONResponse(status_info(get_job(state(request), jobId, request)))
 
 
-def _accepts_json(accept: str) -> bool:
-    for part in accept.split(","):
-        media = part.split(";")[0].strip().lower()
-        if media in ("", "*/*", "application/*", "application/json") or media.endswith("+json"):
-            return True
-    return False
+_RESULT_CONTENT = {
+    "application/json": {"schema": {"type": "object"}},
+    MEDIA_GLB: {"schema": {"type": "string", "format": "binary"}},
+    MEDIA_NPY: {"schema": {"type": "string", "format": "binary"}},
+}
+_FORMAT = Query(description="Output format, instead of the Accept header: json, glb (glTF "
+                "binary of the result's geometry) or npy (one array).")
 
 
-@router.get("/jobs/{jobId}/results", operation_id="getResult", summary="A job's results",
-            responses={**docs.responses(None, 404, 406, 410, 422, 500, 504),
-                       200: {"description": "The results document: output name -> value.",
-                             "content": {"application/json": {"schema": {"type": "object"}}}}})
-async def get_results(
-    jobId: str,  # noqa: N803
-    request: Request,
-    f: Annotated[Literal["json"] | None, Query(description="Output format.")] = None,
-) -> JSONResponse:
+async def _results(request: Request, job_id: str, f: str | None, only: str | None
+                   ) -> Response:
     st = state(request)
-    job = get_job(st, jobId, request)
-    if f is None and not _accepts_json(request.headers.get("accept", "*/*")):
-        raise ServiceError("not-acceptable", "The results are available as application/json "
-                           f"only; the request accepts {request.headers.get('accept')!r}.")
+    job = get_job(st, job_id, request)
+    wanted = Wanted.of(request, f)
     if job.status == "successful":
-        return JSONResponse(results_document(st.store.result(job.id), job.request))
+        outputs = await run_in_threadpool(st.store.result, job.id)
+        # glTF and .npy encoding of large results takes a while: off the event loop
+        return await run_in_threadpool(results_response, st, job, outputs, wanted,
+                                       only=only)
     if job.status in ("failed", "dismissed"):
         return failure_response(job)
     raise ServiceError("result-not-ready", f"Job {job.id} is {job.status} "
                        f"({job.progress}%); poll /jobs/{job.id} until it is successful.")
+
+
+@router.get("/jobs/{jobId}/results", operation_id="getResult", summary="A job's results",
+            description="The results document (JSON); the result's geometry as glTF binary "
+            f"(`Accept: {MEDIA_GLB}` or `?f=glb`); a single array output as `.npy` "
+            f"(`Accept: {MEDIA_NPY}` or `?f=npy`). `Prefer: arrays=binary` sends the arrays "
+            "of the JSON document as typed binary arrays.",
+            responses={**docs.responses(None, 404, 406, 410, 422, 500, 504),
+                       200: {"description": "The results document: output name -> value.",
+                             "content": _RESULT_CONTENT}})
+async def get_results(
+    jobId: str,  # noqa: N803
+    request: Request,
+    f: Annotated[Literal["json", "glb", "npy"] | None, _FORMAT] = None,
+) -> Response:
+    return await _results(request, jobId, f, None)
+
+
+@router.get("/jobs/{jobId}/results/{outputId}", operation_id="getResultOutput",
+            summary="One output of a job's results",
+            description="The value of one output: JSON, `.npy` for an array, or glTF binary of "
+            "the result's geometry. Also what inputs by reference name: "
+            '`{"href": "/jobs/{jobId}/results/{outputId}"}`.',
+            responses={**docs.responses(None, 404, 406, 410, 422, 500, 504),
+                       200: {"description": "The output's value.",
+                             "content": _RESULT_CONTENT}})
+async def get_result_output(
+    jobId: str,  # noqa: N803
+    outputId: Annotated[str, Path(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")],  # noqa: N803
+    request: Request,
+    f: Annotated[Literal["json", "glb", "npy"] | None, _FORMAT] = None,
+) -> Response:
+    return await _results(request, jobId, f, outputId)
 
 
 @router.delete("/jobs/{jobId}", operation_id="dismiss",

@@ -8,19 +8,23 @@ import sqlite3
 from typing import Any
 
 from fastapi import APIRouter, Request
+from starlette.responses import Response
 from pydantic import ValidationError
 
 from service import jsonio
 from service.auth import owner_of
+from algorithms.core.errors import InvalidInputError
 from service.binary import decode_arrays
 from service.catalog import Process, processes
 from service.errors import ServiceError
+from service.geometry_io import decode_upload, parse_multipart, place_upload, resolve_refs
 from service.jsonio import JSONResponse
 from service.problems import pydantic_errors
 from service.representation import process_description, process_summary
 from service.routes import docs
 from service.routes.common import (
     State,
+    Wanted,
     get_process,
     job_response,
     parse_prefer,
@@ -62,11 +66,79 @@ def _unwrap(value: Any) -> Any:
     return value
 
 
-def _parse_execute(process: Process, raw: bytes, st: State) -> dict[str, Any]:
+def _json_body(raw: bytes, what: str = "The body") -> Any:
     try:
-        body = jsonio.loads(raw) if raw.strip() else {}
+        return jsonio.loads(raw) if raw.strip() else {}
     except (ValueError, UnicodeDecodeError) as exc:
-        raise ServiceError("malformed-body", f"The body is not valid JSON: {exc}.") from None
+        raise ServiceError("malformed-body", f"{what} is not valid JSON: {exc}.") from None
+
+
+def _multipart_body(process: Process, raw: bytes, content_type: str, st: State
+                    ) -> tuple[Any, bytes]:
+    """The execute request of a multipart body, its uploads decoded into its inputs, and the
+    bytes that identify it for Idempotency-Key (the spec and each part's name and digest:
+    the boundary differs between retries)."""
+    spec_raw, uploads = parse_multipart(raw, content_type,
+                                        max_input_bytes=st.settings.max_input_bytes)
+    body = _json_body(spec_raw or b"", "The part 'spec'")
+    identity = hashlib.sha256(spec_raw or b"")
+    if not isinstance(body, dict) or not uploads:
+        return body, identity.digest()  # _parse_execute names what is wrong with it
+    inputs = body.setdefault("inputs", {})
+    if not isinstance(inputs, dict):
+        raise _invalid("inputs", f"Expected an object of named inputs, got "
+                       f"{type(inputs).__name__}.")
+    fields = process.params.model_fields
+    for name, upload in sorted(uploads.items()):
+        head = name.split(".", 1)[0]
+        if head not in fields:
+            raise _invalid(name, f"No such input of {process.id}; expected one of "
+                           f"{sorted(fields)} (or the part 'spec').")
+        if name == head and head in inputs:
+            raise _invalid(name, "Given both in the spec and as a part.")
+        want_mesh = name == head and _is_mesh_input(process, head)
+        value = decode_upload(upload, want_mesh=want_mesh, max_glb_bytes=st.settings.max_input_bytes)
+        place_upload(inputs, name, value)
+        identity.update(name.encode() + b"\0" + hashlib.sha256(upload.data).digest())
+    return body, identity.digest()
+
+
+_MESH_INPUTS: dict[str, frozenset[str]] = {}
+
+
+def _is_mesh_input(process: Process, name: str) -> bool:
+    """Whether an input is a mesh (``{"vertices", "faces"}``), so that an uploaded file gives
+    it a mesh rather than its vertices."""
+    if process.id not in _MESH_INPUTS:
+        schema = process.params.model_json_schema(mode="validation")
+        _MESH_INPUTS[process.id] = frozenset(
+            k for k, v in schema.get("properties", {}).items()
+            if "faces" in str(v.get("properties", "")) + str(v.get("anyOf", "")))
+    return name in _MESH_INPUTS[process.id]
+
+
+def _fetch_output(st: State, who: str | None) -> Any:
+    """How inputs by reference read an earlier job's output: a job of the same key, finished
+    successfully, and an output it has."""
+    def fetch(job_id: str, output: str, field: str) -> Any:
+        job = st.store.get(job_id)
+        if job is None or (st.keyring is not None and job.owner != who):
+            raise InvalidInputError(f"`{field}` refers to job {job_id!r}, which does not "
+                                    "exist.", field=field)
+        if job.status != "successful":
+            raise InvalidInputError(f"`{field}` refers to job {job_id}, which is "
+                                    f"{job.status}; only results of successful jobs can be "
+                                    "inputs.", field=field)
+        outputs = st.store.result(job.id)
+        if output not in outputs:
+            raise InvalidInputError(f"`{field}` refers to the output {output!r} of job "
+                                    f"{job_id}, which has only {sorted(outputs)}.", field=field)
+        return outputs[output]
+    return fetch
+
+
+def _parse_execute(process: Process, body: Any, st: State,
+                   fetch: Any = None, origin: str = "") -> dict[str, Any]:
     if not isinstance(body, dict):
         raise ServiceError("malformed-body", "Expected a JSON object "
                            '{"inputs": {...}}, got ' + type(body).__name__ + ".")
@@ -78,6 +150,11 @@ def _parse_execute(process: Process, raw: bytes, st: State) -> dict[str, Any]:
     if not isinstance(inputs, dict):
         raise _invalid("inputs", f"Expected an object of named inputs, got "
                        f"{type(inputs).__name__}.")
+    if "spec" in inputs:
+        raise _invalid("spec", "'spec' names the JSON part of a multipart request, not an "
+                       "input.")
+    if fetch is not None:  # inputs by reference to earlier results
+        inputs = {k: resolve_refs(_unwrap(v), k, fetch, origin) for k, v in inputs.items()}
     try:  # typed binary arrays are decoded first: their errors name the input path
         params = process.params.model_validate(
             {k: decode_arrays(_unwrap(v), k) for k, v in inputs.items()},
@@ -136,26 +213,34 @@ def _parse_execute(process: Process, raw: bytes, st: State) -> dict[str, Any]:
                      "content": {"application/json": {"schema": {
                          "$ref": "#/components/schemas/StatusInfo"}}}}},
 )
-async def execute(processId: str, request: Request) -> JSONResponse:  # noqa: N803
+async def execute(processId: str, request: Request) -> Response:  # noqa: N803
     st = state(request)
     process = get_process(st, processId)
-    ctype = request.headers.get("content-type", "application/json").split(";")[0].strip()
-    if ctype.lower() not in ("application/json", "") and not ctype.lower().endswith("+json"):
+    header = request.headers.get("content-type", "application/json")
+    ctype = header.split(";")[0].strip().lower()
+    multipart = ctype == "multipart/form-data"
+    if ctype not in ("application/json", "") and not ctype.endswith("+json") and not multipart:
         raise ServiceError("unsupported-media-type",
-                           f"Expected an application/json body, got {ctype!r}; send the "
-                           "header 'Content-Type: application/json'.")
+                           f"Expected an application/json or multipart/form-data body, got "
+                           f"{ctype!r}; send the header 'Content-Type: application/json'.")
     raw = await read_body(request, st.settings.max_request_bytes)
+    if multipart:
+        body, identity = _multipart_body(process, raw, header, st)
+    else:
+        body, identity = _json_body(raw), raw
     key = request.headers.get("idempotency-key")
-    digest = hashlib.sha256(processId.encode() + b"\0" + raw).hexdigest() if key else None
+    digest = hashlib.sha256(processId.encode() + b"\0" + identity).hexdigest() if key else None
     prefer = parse_prefer(request.headers.getlist("prefer"))
+    wanted = Wanted.of(request)  # an Accept the results cannot meet: 406 before any work
 
     who = owner_of(request)
     if key:
         earlier = st.store.by_idempotency_key(key, who)
         if earlier is not None:
-            return await _answer_existing(st, earlier, digest, prefer, process)
+            return await _answer_existing(st, earlier, digest, prefer, process, wanted)
 
-    spec = _parse_execute(process, raw, st)
+    origin = f"{request.url.scheme}://{request.url.netloc}"
+    spec = _parse_execute(process, body, st, _fetch_output(st, who), origin)
     active = st.engine.active
     if active >= st.settings.max_queue:
         raise ServiceError("queue-full", f"{active} jobs are waiting or running; the limit is "
@@ -171,11 +256,11 @@ async def execute(processId: str, request: Request) -> JSONResponse:  # noqa: N8
     except sqlite3.IntegrityError:  # the same key raced in from another request
         earlier = st.store.by_idempotency_key(key or "", who)
         assert earlier is not None
-        return await _answer_existing(st, earlier, digest, prefer, process)
+        return await _answer_existing(st, earlier, digest, prefer, process, wanted)
     fast = process.fast_path and spec["nbytes"] <= st.settings.fast_path_bytes
     st.engine.submit(job, spec["kwargs"] if job.inputs_file is None
                      else st.store.payload(job), fast=fast)
-    return await _answer(st, job.id, prefer, process, spec.get("mode"))
+    return await _answer(st, job.id, prefer, process, spec.get("mode"), wanted)
 
 
 async def _create(st: State, process: Process, spec: dict[str, Any], key: str | None,
@@ -207,7 +292,7 @@ def _wait_for(prefer: dict[str, str | None], process: Process, mode: Any,
 
 
 async def _answer(st: State, job_id: str, prefer: dict[str, str | None], process: Process,
-                  mode: Any) -> JSONResponse:
+                  mode: Any, wanted: Wanted) -> Response:
     wait, applied = _wait_for(prefer, process, mode, st)
     outcome = None
     if wait > 0:
@@ -216,14 +301,15 @@ async def _answer(st: State, job_id: str, prefer: dict[str, str | None], process
     assert job is not None
     if job.active:
         applied = "respond-async" if applied else None
-    return job_response(st, job, outcome, applied, waited=wait > 0)
+    return job_response(st, job, outcome, applied, waited=wait > 0, wanted=wanted)
 
 
 async def _answer_existing(st: State, job, digest: str | None,  # noqa: ANN001
-                           prefer: dict[str, str | None], process: Process) -> JSONResponse:
+                           prefer: dict[str, str | None], process: Process,
+                           wanted: Wanted) -> Response:
     if job.request_hash != digest:
         raise ServiceError("idempotency-conflict", "This Idempotency-Key was used for job "
                            f"{job.id} with a different request.",
                            errors=[{"input": "Idempotency-Key",
                                     "message": "reused with a different body"}])
-    return await _answer(st, job.id, prefer, process, None)
+    return await _answer(st, job.id, prefer, process, None, wanted)

@@ -14,7 +14,7 @@ COMMITTED = Path(__file__).resolve().parents[2] / "openapi" / "openapi.json"
 
 OPERATION_IDS = {"getLandingPage", "getConformanceClasses", "getHealth", "getReadiness",
                  "getMetrics", "getProcesses", "getProcessDescription", "execute", "getJobs",
-                 "getStatus", "getResult", "dismiss"}
+                 "getStatus", "getResult", "getResultOutput", "dismiss"}
 
 _METHODS = {"get", "put", "post", "delete", "options", "head", "patch", "trace"}
 

@@ -1,0 +1,548 @@
+"""Geometry in and out of the service: uploads, references to earlier results, and the
+formats a result can be sent in.
+
+Inputs
+    An execute request may be ``multipart/form-data``: a part named ``spec`` holds the JSON
+    execute request (``{"inputs": {...}, "outputs": ..., "response": ...}``), and every other
+    part is one input, named by the part (``mesh``, ``source``), or one member of an object
+    input (``mesh.vertices``). A part is read by its file name's suffix, else its content type,
+    else its first bytes:
+
+    - ``.npy`` (``application/x-npy``): a numpy array (``allow_pickle=False``), bit-exact.
+    - ``.ply``, ``.obj``, ``.off``, ``.glb``/``.gltf``: a mesh or point cloud loaded by trimesh
+      with ``process=False``, so the vertices keep the file's order and indices in other
+      inputs (handles, pins) still refer to them. A scene is merged into one mesh.
+    - ``.stl``: loaded by trimesh with its default processing, which merges the triangles'
+      repeated corners into shared vertices (an STL file has no vertex list of its own).
+
+    A mesh file given for a point input gives its vertices; a point cloud given for a mesh
+    input is refused (422). Every part is bounded by ``max_input_bytes`` (413 naming it).
+
+    Any input, or member of an input, may instead be a reference to an output of an earlier
+    job of the same API key: ``{"href": "/jobs/{jobId}/results/{output}"}`` (or the same path
+    under this service's own URL). Other URLs are refused: the service never fetches from
+    the network on a client's behalf.
+
+Outputs
+    JSON results documents (arrays as nested lists or, when the client prefers
+    ``arrays=binary``, typed binary arrays, whose shape survives even when empty); a single
+    array as ``.npy`` (``application/x-npy``); and geometry as glTF binary
+    (``model/gltf-binary``, see :func:`result_glb`).
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import re
+from dataclasses import dataclass
+from pathlib import PurePosixPath
+from typing import Any, Callable
+from urllib.parse import urlsplit
+
+import numpy as np
+
+from algorithms.core.errors import InvalidInputError
+from service.errors import ServiceError
+
+__all__ = ["Upload", "parse_multipart", "decode_upload", "place_upload", "resolve_refs",
+           "REF_PATTERN", "encode_binary_arrays", "npy_bytes", "MEDIA_GLB", "MEDIA_NPY",
+           "MEDIA_JSON", "negotiate"]
+
+MEDIA_JSON = "application/json"
+MEDIA_GLB = "model/gltf-binary"
+MEDIA_NPY = "application/x-npy"
+
+#: File suffixes (and the content types that mean the same) read as inputs.
+_SUFFIXES = {"npy": "npy", "ply": "ply", "obj": "obj", "stl": "stl", "off": "off",
+             "glb": "glb", "gltf": "gltf"}
+_CONTENT_TYPES = {MEDIA_NPY: "npy", "application/npy": "npy", MEDIA_GLB: "glb",
+                  "model/gltf+json": "gltf", "model/stl": "stl", "application/sla": "stl",
+                  "model/obj": "obj", "text/plain+obj": "obj", "application/ply": "ply",
+                  "model/ply": "ply", "model/off": "off"}
+
+
+@dataclass(frozen=True)
+class Upload:
+    """One file part of a multipart request."""
+
+    name: str
+    filename: str | None
+    content_type: str | None
+    data: bytes
+
+
+def _malformed(detail: str) -> ServiceError:
+    return ServiceError("malformed-body", detail)
+
+
+def _invalid(field: str, message: str) -> ServiceError:
+    return ServiceError("invalid-input", f"{field}: {message}",
+                        errors=[{"input": field, "message": message}])
+
+
+def parse_multipart(body: bytes, content_type: str, *, max_input_bytes: int
+                    ) -> tuple[bytes | None, dict[str, Upload]]:
+    """The ``spec`` part's bytes (None when absent) and the other parts by name.
+
+    Raises ServiceError: 400 for a body that is not complete multipart (no boundary, cut
+    short, a part without a name), 413 for a part above ``max_input_bytes`` (naming it),
+    422 for a part named twice.
+    """
+    from python_multipart import MultipartParser
+    from python_multipart.multipart import parse_options_header
+
+    _, options = parse_options_header(content_type)
+    boundary = options.get(b"boundary")
+    if not boundary:
+        raise _malformed("A multipart/form-data body needs a boundary parameter in its "
+                         "Content-Type header.")
+    parts: list[dict[str, Any]] = []
+    current: dict[str, Any] = {}
+    header_field: list[bytes] = []
+    header_value: list[bytes] = []
+    ended = False
+
+    def on_part_begin() -> None:
+        current.clear()
+        current.update(headers={}, chunks=[], size=0)
+
+    def on_header_field(data: bytes, start: int, end: int) -> None:
+        header_field.append(data[start:end])
+
+    def on_header_value(data: bytes, start: int, end: int) -> None:
+        header_value.append(data[start:end])
+
+    def on_header_end() -> None:
+        current["headers"][b"".join(header_field).decode("latin-1").lower()] = \
+            b"".join(header_value).decode("latin-1")
+        header_field.clear()
+        header_value.clear()
+
+    def on_headers_finished() -> None:
+        disposition = current["headers"].get("content-disposition", "")
+        _, params = parse_options_header(disposition)
+        name = params.get(b"name")
+        if not name:
+            raise _malformed("Every part of a multipart body needs a Content-Disposition "
+                             "with a name (the input it holds).")
+        current["name"] = name.decode("utf-8", "replace")
+        filename = params.get(b"filename")
+        current["filename"] = filename.decode("utf-8", "replace") if filename else None
+
+    def on_part_data(data: bytes, start: int, end: int) -> None:
+        current["size"] += end - start
+        if current["size"] > max_input_bytes:
+            raise ServiceError(
+                "payload-too-large", f"The part {current['name']!r} exceeds the limit of "
+                f"{max_input_bytes} bytes per input.",
+                errors=[{"input": current["name"],
+                         "message": f"larger than {max_input_bytes} bytes"}])
+        current["chunks"].append(data[start:end])
+
+    def on_part_end() -> None:
+        parts.append(dict(current))
+
+    def on_end() -> None:
+        nonlocal ended
+        ended = True
+
+    parser = MultipartParser(boundary, {
+        "on_part_begin": on_part_begin, "on_header_field": on_header_field,
+        "on_header_value": on_header_value, "on_header_end": on_header_end,
+        "on_headers_finished": on_headers_finished, "on_part_data": on_part_data,
+        "on_part_end": on_part_end, "on_end": on_end})
+    try:
+        parser.write(body)
+        parser.finalize()
+    except ServiceError:
+        raise
+    except Exception as exc:  # python_multipart's parse errors
+        raise _malformed(f"The multipart body could not be parsed: {exc}") from None
+    if not ended:
+        where = f" in the part {current.get('name')!r}" if current.get("name") else ""
+        raise _malformed(f"The multipart body is cut short{where}: its closing boundary "
+                         "never came.")
+    spec: bytes | None = None
+    uploads: dict[str, Upload] = {}
+    for part in parts:
+        data = b"".join(part["chunks"])
+        name = part["name"]
+        if name == "spec":
+            if spec is not None:
+                raise _invalid("spec", "The part 'spec' was sent twice.")
+            spec = data
+            continue
+        if name in uploads:
+            raise _invalid(name, "This input was sent in two parts.")
+        ctype = part["headers"].get("content-type")
+        uploads[name] = Upload(name, part["filename"],
+                               ctype.split(";")[0].strip().lower() if ctype else None, data)
+    return spec, uploads
+
+
+def _format_of(upload: Upload) -> str:
+    if upload.filename:
+        suffix = PurePosixPath(upload.filename).suffix.lower().lstrip(".")
+        if suffix in _SUFFIXES:
+            return _SUFFIXES[suffix]
+    if upload.content_type in _CONTENT_TYPES:
+        return _CONTENT_TYPES[upload.content_type]
+    head = upload.data[:64]
+    if head.startswith(b"\x93NUMPY"):
+        return "npy"
+    if head.startswith(b"glTF"):
+        return "glb"
+    if head.startswith(b"ply"):
+        return "ply"
+    if head.lstrip().startswith(b"OFF"):
+        return "off"
+    if head.lstrip().startswith(b"{"):
+        return "json"
+    if re.match(rb"\s*(#|v |o |g |mtllib)", head):
+        return "obj"
+    if head.lstrip().lower().startswith(b"solid") or len(upload.data) >= 84 and \
+            len(upload.data) == 84 + 50 * int.from_bytes(upload.data[80:84], "little"):
+        return "stl"
+    raise InvalidInputError(
+        f"Cannot tell the format of the part `{upload.name}`: give it a file name ending in "
+        f"one of {sorted('.' + s for s in _SUFFIXES)}, or a content type such as "
+        f"{MEDIA_NPY!r} or {MEDIA_GLB!r}.", field=upload.name)
+
+
+def decode_upload(upload: Upload, *, want_mesh: bool, max_glb_bytes: int) -> Any:
+    """The value of one uploaded part: an array (``.npy``, or a file's vertices when the input
+    is points) or ``{"vertices", "faces"}`` for a mesh input. Errors name the part."""
+    fmt = _format_of(upload)
+    name = upload.name
+    if fmt == "json":
+        from service import jsonio
+
+        try:
+            return jsonio.loads(upload.data)
+        except (ValueError, UnicodeDecodeError) as exc:
+            raise InvalidInputError(f"The part `{name}` is not valid JSON: {exc}.",
+                                    field=name) from None
+    if fmt == "npy":
+        try:
+            arr = np.load(io.BytesIO(upload.data), allow_pickle=False)
+        except (ValueError, OSError, EOFError) as exc:
+            raise InvalidInputError(f"The part `{name}` is not a readable .npy array "
+                                    f"(numeric, no pickled objects): {exc}", field=name) from None
+        if not isinstance(arr, np.ndarray) or arr.dtype.kind not in "biuf":
+            raise InvalidInputError(f"Expected the .npy part `{name}` to hold numbers, got "
+                                    f"dtype {getattr(arr, 'dtype', type(arr).__name__)}.",
+                                    field=name)
+        return arr.astype(arr.dtype.newbyteorder("="), copy=False)
+    geometry = _load_geometry(upload, fmt, max_glb_bytes)
+    vertices = np.asarray(geometry.vertices, dtype=np.float64)
+    faces = getattr(geometry, "faces", None)
+    if want_mesh:
+        if faces is None or len(faces) == 0:
+            raise InvalidInputError(f"The part `{name}` holds a point cloud of "
+                                    f"{len(vertices)} points; this input needs a mesh with "
+                                    "faces.", field=name)
+        return {"vertices": vertices, "faces": np.asarray(faces, dtype=np.int64)}
+    return vertices
+
+
+def _load_geometry(upload: Upload, fmt: str, max_glb_bytes: int) -> Any:
+    import trimesh
+
+    name = upload.name
+    if fmt == "glb":
+        from service.gltf import check_glb
+
+        try:
+            check_glb(upload.data, max_glb_bytes)
+        except ValueError as exc:
+            raise InvalidInputError(f"The part `{name}` is not a valid GLB: {exc}",
+                                    field=name) from None
+    if fmt == "gltf":
+        raise InvalidInputError(f"The part `{name}` is JSON glTF, whose buffers live in "
+                                "other files; send the single-file binary form (.glb).",
+                                field=name)
+    try:
+        loaded = trimesh.load(io.BytesIO(upload.data), file_type=fmt,
+                              process=fmt == "stl", force=None)
+    except Exception as exc:  # trimesh raises many kinds on malformed files
+        raise InvalidInputError(f"The part `{name}` could not be read as {fmt.upper()}: "
+                                f"{type(exc).__name__}: {exc}", field=name) from None
+    if isinstance(loaded, trimesh.Scene):
+        geometries = list(loaded.dump()) if loaded.geometry else []
+        if not geometries:
+            raise InvalidInputError(f"The {fmt.upper()} part `{name}` holds no geometry.",
+                                    field=name)
+        meshes = [g for g in geometries if isinstance(g, trimesh.Trimesh)]
+        loaded = trimesh.util.concatenate(meshes) if len(meshes) == len(geometries) \
+            else trimesh.PointCloud(np.vstack([g.vertices for g in geometries]))
+    if not hasattr(loaded, "vertices") or len(loaded.vertices) == 0:
+        raise InvalidInputError(f"The {fmt.upper()} part `{name}` holds no vertices.",
+                                field=name)
+    return loaded
+
+
+def place_upload(inputs: dict[str, Any], path: str, value: Any) -> None:
+    """Put an uploaded value at ``name`` or ``name.member`` of the inputs."""
+    head, _, member = path.partition(".")
+    if not member:
+        inputs[head] = value
+        return
+    target = inputs.setdefault(head, {})
+    if not isinstance(target, dict):
+        raise InvalidInputError(f"The part `{path}` sets a member of `{head}`, which the spec "
+                                "already gives as a value that has no members.", field=path)
+    place_upload(target, member, value)
+
+
+#: A reference to an output of an earlier job.
+REF_PATTERN = re.compile(r"^/jobs/(?P<job>[^/?#]+)/results/(?P<output>[A-Za-z_][A-Za-z0-9_]*)$")
+
+
+def resolve_refs(value: Any, name: str, fetch: Callable[[str, str, str], Any],
+                 own_origin: str) -> Any:
+    """``value`` with every ``{"href": ...}`` object in it (at any depth of objects) replaced
+    by the output it names, as ``fetch(job_id, output, field)`` returns it."""
+    if isinstance(value, dict):
+        if "href" in value and set(value) <= {"href", "type", "rel", "title"}:
+            return fetch(*_parse_ref(value["href"], name, own_origin), name)
+        return {k: resolve_refs(v, f"{name}.{k}", fetch, own_origin) for k, v in value.items()}
+    return value
+
+
+def _parse_ref(href: Any, name: str, own_origin: str) -> tuple[str, str]:
+    if not isinstance(href, str):
+        raise InvalidInputError(f"Expected `{name}.href` to be a string, got "
+                                f"{type(href).__name__}.", field=name)
+    url = urlsplit(href)
+    if url.scheme or url.netloc:
+        origin = f"{url.scheme}://{url.netloc}".lower()
+        if origin != own_origin.lower():
+            raise InvalidInputError(
+                f"`{name}` refers to {href!r}; inputs by reference may only name results of "
+                "this service's own jobs (/jobs/{jobId}/results/{output}): it never fetches "
+                "other URLs.", field=name)
+    match = REF_PATTERN.match(url.path)
+    if not match or url.query or url.fragment:
+        raise InvalidInputError(
+            f"`{name}` refers to {href!r}; expected /jobs/{{jobId}}/results/{{output}}.",
+            field=name)
+    return match["job"], match["output"]
+
+
+# -- outputs -------------------------------------------------------------------------------
+
+def _binary(a: np.ndarray) -> dict[str, Any]:
+    a = np.ascontiguousarray(a)
+    if a.dtype.byteorder == ">" or a.dtype.kind not in "iuf":
+        a = a.astype(a.dtype.newbyteorder("<") if a.dtype.kind in "iuf" else np.float64)
+    return {"dtype": a.dtype.str, "shape": list(a.shape),
+            "data": base64.b64encode(a.tobytes()).decode("ascii")}
+
+
+def encode_binary_arrays(value: Any) -> Any:
+    """``value`` with its numeric arrays (nested in dicts, lists and result dataclasses too)
+    as typed binary arrays: bit-exact, fast to decode, and an empty array keeps its shape."""
+    import dataclasses
+
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind in "iuf" and 1 <= value.ndim <= 4:
+            return _binary(value)
+        if value.dtype.kind == "b" and 1 <= value.ndim <= 4:
+            return value.tolist()
+        return value
+    if isinstance(value, dict):
+        return {k: encode_binary_arrays(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [encode_binary_arrays(v) for v in value]
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: encode_binary_arrays(getattr(value, f.name))
+                for f in dataclasses.fields(value)}
+    return value
+
+
+def npy_bytes(a: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    np.save(buf, np.asarray(a), allow_pickle=False)
+    return buf.getvalue()
+
+
+def _accepted(accept: str) -> list[tuple[float, int, str]]:
+    out = []
+    for i, part in enumerate(accept.split(",")):
+        media, *params = [p.strip() for p in part.split(";")]
+        q = 1.0
+        for p in params:
+            key, _, val = p.partition("=")
+            if key.strip().lower() == "q":
+                try:
+                    q = float(val)
+                except ValueError:
+                    q = 0.0
+        if media:
+            out.append((q, -i, media.lower()))
+    return sorted(out, reverse=True)
+
+
+def negotiate(accept: str | None, f: str | None) -> str:
+    """The result format a request asks for: ``json``, ``glb`` or ``npy``.
+
+    ``?f=`` wins over ``Accept``; among Accept's media types the highest q (the first on a
+    tie) that the service writes. Raises ServiceError 406 when none is."""
+    if f is not None:
+        return f
+    if not accept:
+        return "json"
+    for q, _, media in _accepted(accept):
+        if q <= 0:
+            continue
+        if media in ("*/*", "application/*", MEDIA_JSON) or media.endswith("+json"):
+            return "json"
+        if media in (MEDIA_GLB, "model/*"):
+            return "glb"
+        if media in (MEDIA_NPY, "application/npy"):
+            return "npy"
+    raise ServiceError("not-acceptable", f"The results are available as {MEDIA_JSON}, "
+                       f"{MEDIA_GLB} (geometry) or {MEDIA_NPY} (one array); the request "
+                       f"accepts {accept!r}.")
+
+
+# -- glTF of a result -----------------------------------------------------------------------
+
+#: Colours of the two sides of a registration: the moved source and the target.
+SOURCE_COLOR = (0.95, 0.45, 0.1)
+TARGET_COLOR = (0.15, 0.45, 0.85)
+
+
+def _xyz(points: np.ndarray) -> np.ndarray:
+    """Points as 3-D positions: 1-D and 2-D padded with zeros, more dimensions cut to the
+    first three (an embedding's leading components)."""
+    p = np.asarray(points, dtype=np.float64)
+    if p.ndim == 1:
+        p = p[:, None]
+    if p.shape[1] >= 3:
+        return p[:, :3]
+    return np.hstack([p, np.zeros((len(p), 3 - p.shape[1]))])
+
+
+def _apply(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """A homogeneous (d+1)×(d+1) transform (projective included) applied to (n, d) points."""
+    t = np.asarray(transform, dtype=np.float64)
+    d = points.shape[1]
+    h = points @ t[:d, :d].T + t[:d, d]
+    w = points @ t[d, :d] + t[d, d]
+    return h / w[:, None] if not np.allclose(t[d, :d], 0) or t[d, d] != 1 else h
+
+
+def _mesh_parts(value: Any) -> tuple[np.ndarray, np.ndarray | None]:
+    """Vertices and faces of a mesh input or output (a Mesh, a dict) or of points."""
+    if hasattr(value, "vertices"):
+        return np.asarray(value.vertices), np.asarray(value.faces)
+    if isinstance(value, dict) and "vertices" in value:
+        return np.asarray(value["vertices"]), np.asarray(value.get("faces"))
+    return np.asarray(value), None
+
+
+def _labels_of(outputs: dict[str, Any], inputs: dict[str, Any], n: int) -> np.ndarray | None:
+    for source in (inputs.get("labels"), outputs.get("labels"), outputs.get("predictions")):
+        if source is not None and np.ndim(source) == 1 and len(source) == n:
+            return np.asarray(source)
+    return None
+
+
+def _seconds(times: Any, duration: float = 2.0) -> np.ndarray | None:
+    """Keyframe times of the animation: the frames' parameters stretched over ``duration``
+    seconds when they increase, else evenly spaced (None)."""
+    if times is None:
+        return None
+    t = np.asarray(times, dtype=np.float64).ravel()
+    if len(t) < 2 or not np.all(np.diff(t) > 0):
+        return None
+    return (t - t[0]) * (duration / (t[-1] - t[0]))
+
+
+def _unit_square(uv: np.ndarray) -> np.ndarray:
+    """UVs moved and scaled uniformly into [0, 1]² (texture space), aspect kept."""
+    uv = np.asarray(uv, dtype=np.float64)
+    lo = uv.min(axis=0)
+    span = float((uv.max(axis=0) - lo).max()) or 1.0
+    return (uv - lo) / span
+
+
+def result_glb(process_id: str, outputs: dict[str, Any], inputs: dict[str, Any]) -> bytes | None:
+    """The geometry of a result as one GLB, or None when it has none.
+
+    - ``frames`` (interpolation): one mesh with a morph target per frame and a LINEAR
+      animation through them;
+    - ``uv`` with the mesh (parameterization): the mesh with ``TEXCOORD_0`` (the UVs moved
+      and scaled uniformly into the unit square);
+    - a ``mesh`` output (deformation): the deformed mesh;
+    - ``positions`` (layout): the laid-out mesh or graph vertices;
+    - a clustering: the input points coloured by cluster;
+    - ``embedding``: the embedded points (first three components) coloured by label when
+      labels are known;
+    - ``moved`` or ``transform``(s) with source and target inputs (alignment, registration):
+      the moved source and the target as two coloured point clouds or meshes.
+    """
+    from service import gltf
+
+    family = process_id.split(".", 1)[0]
+    if "frames" in outputs:
+        faces = outputs.get("faces")
+        if faces is None:
+            _, faces = _mesh_parts(inputs.get("mesh", inputs.get("source")))
+        frames = np.asarray(outputs["frames"], dtype=np.float64)
+        if frames.shape[-1] != 3:
+            frames = np.concatenate(
+                [frames, np.zeros(frames.shape[:-1] + (3 - frames.shape[-1],))], axis=-1)
+        return gltf.morph_animation_glb(frames, faces, times=_seconds(outputs.get("times")))
+    if "uv" in outputs:
+        vertices, faces = _mesh_parts(outputs.get("mesh", inputs.get("mesh")))
+        return gltf.mesh_glb(_xyz(vertices), faces, uv=_unit_square(outputs["uv"]),
+                             name=process_id)
+    if "mesh" in outputs and hasattr(outputs["mesh"], "vertices"):
+        vertices, faces = _mesh_parts(outputs["mesh"])
+        return gltf.mesh_glb(_xyz(vertices), faces, name=process_id)
+    if "positions" in outputs:
+        mesh = inputs.get("mesh")
+        faces = _mesh_parts(mesh)[1] if mesh is not None else None
+        return gltf.mesh_glb(_xyz(outputs["positions"]), faces, name=process_id)
+    if family == "clustering" and inputs.get("points") is not None and "labels" in outputs:
+        points = np.asarray(inputs["points"])
+        return gltf.mesh_glb(_xyz(points), None, colors=gltf.label_colors(outputs["labels"]),
+                             name=process_id)
+    if "embedding" in outputs:
+        emb = np.asarray(outputs["embedding"])
+        labels = _labels_of(outputs, inputs, len(emb))
+        colors = gltf.label_colors(labels) if labels is not None else None
+        return gltf.mesh_glb(_xyz(emb), None, colors=colors, name=process_id)
+    return _registration_glb(outputs, inputs)
+
+
+def _registration_glb(outputs: dict[str, Any], inputs: dict[str, Any]) -> bytes | None:
+    from service import gltf
+
+    if "transforms" in outputs and inputs.get("sets") is not None:  # several sets at once
+        sets = [np.asarray(s, dtype=np.float64) for s in inputs["sets"]]
+        parts = [{"vertices": _xyz(_apply(np.asarray(t), s)), "name": f"set {i}"}
+                 for i, (t, s) in enumerate(zip(outputs["transforms"], sets))]
+        return gltf.scene_glb(parts)
+    source, target = inputs.get("source"), inputs.get("target")
+    if source is None or target is None:
+        return None
+    src_v, src_f = _mesh_parts(source)
+    dst_v, dst_f = _mesh_parts(target)
+    if src_v.ndim != 2 or dst_v.ndim != 2 or src_v.shape[1] > 3 or dst_v.shape[1] > 3:
+        return None
+    if outputs.get("moved") is not None:
+        moved = np.asarray(outputs["moved"], dtype=np.float64)
+    elif outputs.get("transform") is not None:
+        moved = _apply(np.asarray(outputs["transform"]), src_v.astype(np.float64))
+    else:
+        return None
+    parts = [
+        {"vertices": _xyz(moved), "faces": src_f, "color": SOURCE_COLOR,
+         "name": "source (moved)"},
+        {"vertices": _xyz(dst_v), "faces": dst_f, "color": TARGET_COLOR, "name": "target"},
+    ]
+    return gltf.scene_glb(parts)
