@@ -106,6 +106,9 @@ def main() -> None:
                  figures(v, f, ours.uv) + f" / E {ours.energy[-1]:.6g}",
                  figures(v, f, peer) + f" / E {arap_energy(v, f, peer):.6g}",
                  f"{np.abs(ours.uv - peer).max():.1e}"))
+    from _param_abf import case_abf  # noqa: PLC0415
+
+    rows += case_abf(args.repeats, args.quick)
     print_table("parameterization vs libigl (time in s; flips / angle / area distortion)",
                 ("method", "ours", "igl", "ratio", "ours: quality", "igl: quality",
                  "max |Δuv|"), rows, left=(0, 4, 5))

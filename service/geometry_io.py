@@ -488,10 +488,15 @@ def result_glb(process_id: str, outputs: dict[str, Any], inputs: dict[str, Any])
 
     family = process_id.split(".", 1)[0]
     if "frames" in outputs:
+        from algorithms.interpolation import surface_triangles
+
         faces = outputs.get("faces")
         if faces is None:
             _, faces = _mesh_parts(inputs.get("mesh", inputs.get("source")))
         frames = np.asarray(outputs["frames"], dtype=np.float64)
+        # tetrahedra: their boundary triangles; point sets: None (points)
+        faces = surface_triangles(frames[0], faces) if faces is not None and len(faces) \
+            else None
         if frames.shape[-1] != 3:
             frames = np.concatenate(
                 [frames, np.zeros(frames.shape[:-1] + (3 - frames.shape[-1],))], axis=-1)

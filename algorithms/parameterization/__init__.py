@@ -3,6 +3,7 @@ flips and the angle and area distortion of each."""
 
 from algorithms.parameterization._disk import NotADiskError, check_disk
 from algorithms.parameterization._results import LocalGlobalResult, ParameterizationResult
+from algorithms.parameterization.abf import AbfResult, abf
 from algorithms.parameterization.arap import arap
 from algorithms.parameterization.asap import asap
 from algorithms.parameterization.conformal import conformal
@@ -19,4 +20,6 @@ __all__ = [
     "conformal",
     "arap",
     "asap",
+    "AbfResult",
+    "abf",
 ]

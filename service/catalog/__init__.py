@@ -14,6 +14,7 @@ from service.catalog import (  # noqa: F401  (register their entries)
     clustering,
     deformation,
     embedding,
+    interpolation,
     layout,
     parameterization,
     registration,

@@ -173,3 +173,33 @@ registry.add(Process(
     long=True,
     keywords=("uv", "texture coordinates", "asap", "conformal", "local/global"),
 ))
+
+# ABF++ (angle-based flattening) --------------------------------------------------------
+from algorithms.parameterization import AbfResult, abf  # noqa: E402
+
+
+class AbfParams(_DiskParams):
+    max_iterations: int = Field(20, ge=1, le=10_000, description="Upper bound on Newton "
+                                "iterations.")
+    tolerance: float = Field(1e-8, ge=0, description="Stop when the norm of the gradient of "
+                             "the Lagrangian (angle optimality and constraint residuals, in "
+                             "radians) is at most this; 0 runs all max_iterations.")
+
+
+registry.add(Process(
+    id="parameterization.abf",
+    title="Angle-based flattening (ABF++)",
+    description="Solves for the flat angles nearest the surface's (relative error, weights "
+    "1/β²) under the triangle, planarity and wheel constraints by Newton's method on a "
+    "sparse reduced system (angle and triangle multipliers eliminated, one sparse Cholesky "
+    "per iteration), then lays the mesh out from the angles by a least-squares conformal "
+    "step with two boundary vertices pinned; free boundary." + _REPORTS,
+    function=abf,
+    params=AbfParams,
+    result=AbfResult,
+    reference="Sheffer, A., Lévy, B., Mogilnitsky, M., Bogomyakov, A. (2005). ABF++: fast and "
+    "robust angle based flattening. ACM Transactions on Graphics 24(2), 311–330.",
+    long=True,
+    keywords=("uv", "texture coordinates", "abf", "abf++", "angle based flattening",
+              "free boundary"),
+))

@@ -320,7 +320,17 @@ def _glb_cases() -> dict[str, tuple[str, dict[str, Any]]]:
         "embedding": ("classification.lda", {"points": pts.tolist(), "labels": labels,
                                              "n_components": 1}),
         "clustering": ("clustering.spectral", {"points": pts.tolist(), "n_clusters": 2}),
+        "interpolation": ("interpolation.arap", {"source": m, "target": {
+            "vertices": (mesh.vertices * [1, 1, -1]).tolist(), "faces": m["faces"]}}),
+        "interpolation of points": ("interpolation.rigid", {
+            "source": pts.tolist(), "target": (pts + [1, 0, 0]).tolist(), "times": [0, 0.5, 1]}),
+        "tetrahedra": ("interpolation.poisson", {"source": TET, "target": {
+            "vertices": (np.array(TET["vertices"]) * 2).tolist(), "faces": TET["faces"]}}),
     }
+
+
+TET = {"vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]],
+       "faces": [[0, 1, 2, 3], [1, 2, 3, 4]]}
 
 
 def test_every_geometry_result_is_a_valid_glb(http, tmp_path) -> None:  # noqa: ANN001

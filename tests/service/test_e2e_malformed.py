@@ -9,9 +9,11 @@ that the error names the row.
 
 from __future__ import annotations
 
+import io
 import json
 from typing import Any
 
+import numpy as np
 import pytest
 
 pytestmark = pytest.mark.e2e
@@ -29,6 +31,48 @@ WAIT = {"Prefer": "wait=30"}
 
 def _mesh(**change: Any) -> dict:
     return {**STRIP, **change}
+
+
+def _multipart(parts: dict[str, tuple[str, bytes]], cut: int | None = None
+               ) -> tuple[bytes, dict[str, str]]:
+    """A multipart/form-data body of file parts and its Content-Type header; ``cut`` drops
+    everything after that many bytes of the last part, as a dropped connection would."""
+    boundary = "morphserve-test-boundary"
+    body = b""
+    for name, (filename, data) in parts.items():
+        body += (f"--{boundary}\r\nContent-Disposition: form-data; name=\"{name}\"; "
+                 f"filename=\"{filename}\"\r\n\r\n").encode() + data + b"\r\n"
+    body = body[:len(body) - len(data) - 2 + cut] if cut is not None else \
+        body + f"--{boundary}--\r\n".encode()
+    return body, {"Content-Type": f"multipart/form-data; boundary={boundary}"}
+
+
+def _npy(a: np.ndarray, allow_pickle: bool = False) -> bytes:
+    buf = io.BytesIO()
+    np.save(buf, a, allow_pickle=allow_pickle)
+    return buf.getvalue()
+
+
+_NPY = _npy(np.arange(12.0).reshape(4, 3))
+
+
+def _pickled_npy() -> bytes:
+    return _npy(np.array([{"a": 1}, None], dtype=object), allow_pickle=True)
+
+
+def _huge_glb() -> bytes:
+    """A valid little GLB whose JSON then claims a 1 TiB buffer."""
+    from service.gltf import mesh_glb
+
+    glb = mesh_glb(np.array(STRIP["vertices"], float), np.array(STRIP["faces"]))
+    length = int.from_bytes(glb[12:16], "little")
+    doc = json.loads(glb[20:20 + length])
+    doc["buffers"][0]["byteLength"] = 2 ** 40
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    rest = glb[20 + length:]
+    return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(
+        4, "little") + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
 
 
 CATALOGUE: list[tuple[str, str, Any, dict[str, str], int, str]] = [
@@ -158,6 +202,44 @@ CATALOGUE: list[tuple[str, str, Any, dict[str, str], int, str]] = [
      "n_clusters"),
     ("labels of the wrong length", "classification.lda", {"points": SQ, "labels": [0, 1]}, {},
      422, "labels"),
+    # -- interpolation -----------------------------------------------------------------------
+    ("target mesh with other faces", "interpolation.arap", {"source": STRIP, "target": _mesh(
+        faces=[[0, 1, 3], [0, 3, 2]])}, {}, 422, "target.faces"),
+    ("target with fewer vertices", "interpolation.poisson", {"source": STRIP, "target": _mesh(
+        vertices=STRIP["vertices"][:3], faces=[[0, 1, 2]])}, {}, 422, "target.vertices"),
+    ("time outside [0, 1]", "interpolation.poisson", {"source": STRIP, "target": STRIP,
+                                                      "times": [0, 0.5, 2]}, {}, 422, "times"),
+    ("times not increasing", "interpolation.affine", {"source": SQ, "target": MOVED,
+                                                      "times": [0.5, 0.25]}, {}, 422, "times"),
+    ("NaN time", "interpolation.rigid", {"source": SQ, "target": MOVED, "times": [0, NAN]}, {},
+     422, "times"),
+    ("transform of the wrong size", "interpolation.affine", {"source": SQ, "transform": [
+        [1, 0, 0], [0, 1, 0], [0, 0, 1]]}, {}, 422, "transform"),
+    ("neither target nor transform", "interpolation.affine", {"source": SQ}, {}, 422, "target"),
+    ("mirroring transform refused", "interpolation.affine", {"source": SQ, "transform": [
+        [-1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}, {}, 422, "transform"),
+    # -- uploads (multipart/form-data) -------------------------------------------------------
+    ("truncated upload", "alignment.rigid", *_multipart({"source": ("a.npy", _NPY)}, cut=40),
+     400, ""),
+    ("GLB declaring a huge buffer", "parameterization.tutte",
+     *_multipart({"mesh": ("big.glb", _huge_glb())}), 422, "mesh"),
+    ("upload for no such input", "alignment.rigid",
+     *_multipart({"sauce": ("a.npy", _NPY)}), 422, "sauce"),
+    ("pickled object array", "alignment.rigid",
+     *_multipart({"source": ("a.npy", _pickled_npy())}), 422, "source"),
+    ("file of unknown format", "alignment.rigid",
+     *_multipart({"source": ("a.bin", b"\x00\x01garbage")}), 422, "source"),
+    ("point cloud for a mesh", "parameterization.tutte",
+     *_multipart({"mesh": ("pts.ply", b"ply\nformat ascii 1.0\nelement vertex 3\nproperty "
+                           b"float x\nproperty float y\nproperty float z\nend_header\n"
+                           b"0 0 0\n1 0 0\n0 1 0\n")}), 422, "mesh"),
+    ("multipart without boundary", "alignment.rigid", b"--x--",
+     {"Content-Type": "multipart/form-data"}, 400, ""),
+    # -- results by reference ------------------------------------------------------------------
+    ("href to another host", "parameterization.tutte", {"mesh": {
+        "href": "http://example.com/jobs/x/results/mesh"}}, {}, 422, "mesh"),
+    ("href to no job", "parameterization.tutte", {"mesh": {
+        "href": "/jobs/nope/results/mesh"}}, {}, 422, "mesh"),
     # -- the request itself ------------------------------------------------------------------
     ("not JSON", "alignment.rigid", b"source=1&target=2", {}, 400, ""),
     ("truncated JSON", "alignment.rigid", b'{"inputs": {"source": [[0, 0, 0], [1, 0', {}, 400,
