@@ -16,6 +16,7 @@ import os
 import time
 from collections.abc import Callable, Generator, Iterable, Iterator, Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from importlib.metadata import PackageNotFoundError, version
 from types import TracebackType
 from typing import Any, Generic, TypeVar
@@ -39,6 +40,7 @@ from ._models import (
     ProcessSummary,
     Results,
     dumps,
+    is_file_input,
     to_json_value,
 )
 from ._progress import ProgressBar
@@ -156,8 +158,10 @@ class _Protocol:
         idempotency_key: str | None,
         time_limit: float | None = None,
     ) -> _Flow[_Submitted]:
+        files = {name: value for name, value in inputs.items() if is_file_input(value)}
         body: dict[str, Any] = {
-            "inputs": {name: to_json_value(value, name) for name, value in inputs.items()}
+            "inputs": {name: to_json_value(value, name) for name, value in inputs.items()
+                       if name not in files}
         }
         if time_limit is not None:
             body["timeLimit"] = time_limit
@@ -166,22 +170,30 @@ class _Protocol:
                 body["outputs"] = {name: dict(spec or {}) for name, spec in outputs.items()}
             else:
                 body["outputs"] = {name: {} for name in _names(outputs)}
-        headers = {"Content-Type": "application/json"}
+        headers = {}
         extra: dict[str, Any] = {}
         if wait is None:
             headers["Prefer"] = "respond-async"
         else:
             if wait < 0:
                 raise ValueError(f"Expected `wait` to be 0 or more seconds, got {wait}.")
-            headers["Prefer"] = f"wait={math.ceil(wait)}"
+            headers["Prefer"] = f"wait={math.ceil(wait)}, arrays=binary"
             if self._timeout is not None:
                 extra["timeout"] = max(self._timeout, math.ceil(wait) + _WAIT_MARGIN)
         if idempotency_key is not None:
             headers["Idempotency-Key"] = idempotency_key
         url = f"/processes/{quote(process_id, safe='')}/execution"
-        response = yield self._build_request(
-            "POST", url, content=dumps(body), headers=headers, **extra
-        )
+        if files:  # geometry files: multipart, the rest of the request in the part "spec"
+            parts = {"spec": ("spec.json", dumps(body), "application/json")}
+            for name, value in files.items():
+                path = Path(value)
+                parts[name] = (path.name, path.read_bytes(), "application/octet-stream")
+            request = self._build_request("POST", url, files=parts, headers=headers, **extra)
+        else:
+            headers["Content-Type"] = "application/json"
+            request = self._build_request("POST", url, content=dumps(body), headers=headers,
+                                          **extra)
+        response = yield request
         document = _document(response)
         if response.status_code == 200:  # done within the wait: the results document
             job_id = _job_id_from(response.headers.get("Content-Location"), "Content-Location")
@@ -228,8 +240,20 @@ class _Protocol:
     def results(self, job: _JobBase) -> _Flow[Results]:
         if job._results is None:
             url = f"/jobs/{quote(job.id, safe='')}/results"
-            job._results = Results(_document((yield self._get(url))))
+            job._results = Results(_document((yield self._get(
+                url, headers={"Prefer": "arrays=binary"}))))
         return job._results
+
+    def download(self, job_id: str, fmt: str, output: str | None) -> _Flow[bytes]:
+        """The results (or one output) as glTF binary (``glb``) or ``.npy``."""
+        url = f"/jobs/{quote(job_id, safe='')}/results"
+        if output is not None:
+            url += f"/{quote(output, safe='')}"
+        media = {"glb": "model/gltf-binary", "npy": "application/x-npy"}[fmt]
+        response = yield self._get(url, headers={"Accept": media})
+        if response.status_code >= 400:
+            _document(response)  # raises the problem
+        return response.content
 
     def dismiss(self, job_id: str) -> _Flow[JobStatus]:
         request = self._build_request("DELETE", f"/jobs/{quote(job_id, safe='')}")
@@ -436,9 +460,20 @@ class Job(_JobBase):
         """The outputs of the successful job; fetched once, then kept.
 
         Raises :class:`ResultNotReady` while the job runs, :class:`JobFailed` or
-        :class:`JobDismissed` for a job that ended otherwise.
+        :class:`JobDismissed` for a job that ended otherwise. ``results().save("out.glb")``
+        writes the result's geometry (see :meth:`Results.save`).
         """
-        return self._client._run(self._protocol.results(self))
+        results = self._client._run(self._protocol.results(self))
+        results._download = self._download
+        return results
+
+    def _download(self, fmt: str, output: str | None) -> bytes:
+        return self._client._run(self._protocol.download(self._id, fmt, output))
+
+    def save(self, path: str | os.PathLike[str], output: str | None = None) -> Path:
+        """Write the job's results to ``path`` (.glb, .npy or .json; see
+        :meth:`Results.save`)."""
+        return self.results().save(path, output)
 
     def dismiss(self) -> JobStatus:
         """Cancel the job if queued or running, or remove it if finished (``DELETE``)."""
@@ -470,6 +505,16 @@ class AsyncJob(_JobBase):
     async def results(self) -> Results:
         """The outputs of the successful job (see :meth:`Job.results`)."""
         return await self._client._run(self._protocol.results(self))
+
+    async def save(self, path: str | os.PathLike[str], output: str | None = None) -> Path:
+        """Write the job's results to ``path`` (.glb, .npy or .json; see
+        :meth:`Results.save`)."""
+        results = await self.results()
+        if Path(path).suffix.lower() != ".glb":
+            return results.save(path, output)
+        data = await self._client._run(self._protocol.download(self._id, "glb", output))
+        Path(path).write_bytes(data)
+        return Path(path)
 
     async def dismiss(self) -> JobStatus:
         """Cancel or remove the job (see :meth:`Job.dismiss`)."""
@@ -565,8 +610,11 @@ class Client(_ClientBase):
             Stop the job after this many seconds of running (never more than the service's
             own limit); it then fails with :class:`TimeLimitExceeded`.
         **inputs
-            The inputs of the process; numpy arrays and scalars are sent as JSON lists and
-            numbers.
+            The inputs of the process: numpy arrays (large ones sent as typed binary
+            arrays, bit-exact), numbers, strings, lists and dicts; ``trimesh`` meshes (as
+            ``{vertices, faces}``) and point clouds (their points); and geometry files —
+            a ``pathlib.Path``, or a string naming an existing ``.ply``, ``.obj``, ``.stl``,
+            ``.off``, ``.glb`` or ``.npy`` file — uploaded as they are (multipart).
 
         Raises
         ------

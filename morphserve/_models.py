@@ -8,11 +8,14 @@ missing, so a server drifting from the contract fails loudly rather than with a 
 from __future__ import annotations
 
 import base64
+import io
 import json
+import os
 import sys
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -144,7 +147,15 @@ class JobStatus:
 
 
 def _from_json_value(value: Any) -> Any:
-    """A JSON list as a numpy array when it is a regular grid of numbers, else unchanged."""
+    """A JSON list as a numpy array when it is a regular grid of numbers, a typed binary
+    array as its numpy array (shape and dtype kept, empty ones too), objects member by
+    member; anything else unchanged."""
+    if isinstance(value, dict):
+        if value.keys() == {"dtype", "shape", "data"}:
+            return np.frombuffer(base64.b64decode(value["data"]), dtype=value["dtype"]
+                                 ).reshape(value["shape"]).astype(
+                                     np.dtype(value["dtype"]).newbyteorder("="))
+        return {k: _from_json_value(v) for k, v in value.items()}
     if not isinstance(value, list):
         return value
     try:
@@ -164,11 +175,78 @@ class Results(Mapping[str, Any]):
     are plain Python. ``raw`` is the results document as JSON values.
     """
 
-    __slots__ = ("_raw", "_values")
+    __slots__ = ("_raw", "_values", "_download")
 
-    def __init__(self, document: Mapping[str, Any]) -> None:
+    def __init__(self, document: Mapping[str, Any],
+                 download: Callable[[str, str | None], bytes] | None = None) -> None:
         self._raw = dict(document)
         self._values = {name: _from_json_value(value) for name, value in self._raw.items()}
+        self._download = download
+
+    def to_json(self) -> dict[str, Any]:
+        """The results as plain JSON values: arrays as nested lists (``raw`` keeps what the
+        service sent, typed binary arrays included)."""
+        return _plain(self._values)
+
+    def save(self, path: str | os.PathLike[str], output: str | None = None) -> Path:
+        """Write the results to a file, in the format its suffix names.
+
+        - ``.glb``: the result's geometry as glTF binary, made by the service (a moved source
+          over its target, a deformed or UV-mapped mesh, an embedding coloured by label, an
+          interpolation as a morph-target animation); opens in Blender or a browser viewer.
+        - ``.npy``: one array output (``output`` names it unless the results hold just one).
+        - ``.json``: the results document.
+
+        Returns the path written. Raises ``ValueError`` for another suffix and
+        :class:`NotAcceptable` when the results have no such representation.
+        """
+        target = Path(path)
+        suffix = target.suffix.lower()
+        if suffix == ".json":
+            target.write_text(json.dumps(self.to_json()) + "\n")
+            return target
+        if suffix == ".npy" and output is None:
+            arrays = [k for k, v in self._values.items() if isinstance(v, np.ndarray)]
+            if len(arrays) != 1:
+                raise ValueError(f"Name the output to save as .npy: one of {arrays}.")
+            output = arrays[0]
+        if suffix == ".npy":
+            buf = io.BytesIO()
+            np.save(buf, np.asarray(self[output]), allow_pickle=False)
+            target.write_bytes(buf.getvalue())
+            return target
+        if suffix != ".glb":
+            raise ValueError(f"Expected a path ending in .glb, .npy or .json, got {str(path)!r}.")
+        if self._download is None:
+            raise TypeError("These results were not fetched by a synchronous Client; use "
+                            "`await job.save(path)` with an AsyncClient.")
+        target.write_bytes(self._download("glb", output))
+        return target
+
+    def to_trimesh(self, name: str | None = None) -> Any:
+        """An output as a ``trimesh`` object (trimesh must be installed): a mesh output
+        (``{vertices, faces}``) as ``trimesh.Trimesh`` (with ``uv`` as its texture
+        coordinates when the results have them), an (n, 2|3) array as ``trimesh.PointCloud``.
+        ``name`` defaults to ``mesh``, else the first array of points."""
+        import trimesh
+
+        if name is None:
+            name = "mesh" if "mesh" in self._values else next(
+                (k for k, v in self._values.items() if isinstance(v, np.ndarray)
+                 and v.ndim == 2 and v.shape[1] in (2, 3) and v.dtype.kind == "f"), None)
+            if name is None:
+                raise ValueError("These results hold no mesh or points.")
+        value = self[name]
+        if isinstance(value, dict) and "vertices" in value:
+            vertices = _as_3d(np.asarray(value["vertices"], dtype=np.float64))
+            mesh = trimesh.Trimesh(vertices, np.asarray(value["faces"]), process=False)
+            if "uv" in self._values and len(self["uv"]) == len(vertices):
+                mesh.visual = trimesh.visual.TextureVisuals(uv=np.asarray(self["uv"]))
+            return mesh
+        array = np.asarray(value, dtype=np.float64)
+        if array.ndim != 2 or array.shape[1] not in (2, 3):
+            raise ValueError(f"The output {name!r} is not a mesh or (n, 2|3) points.")
+        return trimesh.PointCloud(_as_3d(array))
 
     @property
     def raw(self) -> dict[str, Any]:
@@ -196,6 +274,35 @@ class Results(Mapping[str, Any]):
             else:
                 parts.append(f"{name}={value!r:.40}")
         return f"Results({', '.join(parts)})"
+
+
+def _as_3d(points: np.ndarray) -> np.ndarray:
+    if points.shape[1] == 3:
+        return points
+    return np.hstack([points, np.zeros((len(points), 3 - points.shape[1]))])
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+#: Suffixes of the geometry files an input may be given as (a path): sent as uploads.
+FILE_SUFFIXES = frozenset({".npy", ".ply", ".obj", ".stl", ".off", ".glb"})
+
+
+def is_file_input(value: Any) -> bool:
+    """Whether an input value is a file to upload: a path object, or a string naming an
+    existing file with a geometry suffix."""
+    if isinstance(value, os.PathLike):
+        return True
+    return isinstance(value, str) and Path(value).suffix.lower() in FILE_SUFFIXES and \
+        Path(value).is_file()
 
 
 #: Arrays of at least this many numbers (and empty ones, which keep their shape so) travel
@@ -239,6 +346,11 @@ def to_json_value(value: Any, name: str = "input") -> Any:
         return [to_json_value(v, f"{name}[{i}]") for i, v in enumerate(value)]
     if value is None or isinstance(value, (str, int, float, bool)):
         return value
+    if hasattr(value, "vertices") and hasattr(value, "faces"):  # a trimesh.Trimesh
+        return {"vertices": to_json_value(np.asarray(value.vertices), f"{name}.vertices"),
+                "faces": to_json_value(np.asarray(value.faces), f"{name}.faces")}
+    if hasattr(value, "vertices"):  # a trimesh.PointCloud: its points
+        return to_json_value(np.asarray(value.vertices), name)
     if hasattr(value, "__array__"):
         return to_json_value(np.asarray(value), name)
     raise TypeError(

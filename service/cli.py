@@ -8,6 +8,8 @@
     morphserve describe alignment.rigid
     morphserve execute alignment.rigid --input source=a.npy --input target=b.json \\
         --param allow_reflection=false --wait --output result.json
+    morphserve execute deformation.arap --input mesh=scan.ply --input handles=h.json \\
+        --wait --output result.glb
     morphserve jobs [--status running] [--process alignment.rigid] [--limit 20]
     morphserve status JOB | results JOB [--output FILE] | dismiss JOB
     morphserve keys add NAME | keys revoke NAME | keys list   [--file F]
@@ -67,16 +69,26 @@ def _split(text: str, form: str) -> tuple[str, str]:
     return name, value
 
 
+#: Geometry files sent as they are (uploaded), read by the service.
+GEOMETRY_FILES = (".ply", ".obj", ".stl", ".off", ".glb")
+
+
 def parse_input(text: str) -> tuple[str, Any]:
-    """``NAME=FILE.json`` (a JSON value) or ``NAME=FILE.npy`` (a numpy array) → (name, value)."""
-    name, file = _split(text, "NAME=FILE.json or NAME=FILE.npy")
+    """``NAME=FILE`` → (name, value): a .json file's JSON value, a .npy file's array, or a
+    geometry file (.ply, .obj, .stl, .off, .glb) as its path, which the SDK uploads."""
+    name, file = _split(text, "NAME=FILE")
     path = Path(file)
     suffix = path.suffix.lower()
-    if suffix not in (".json", ".npy"):
+    if suffix not in (".json", ".npy", *GEOMETRY_FILES):
         raise argparse.ArgumentTypeError(
-            f"expected a .json or .npy file for input {name!r}, got {file!r}"
+            f"expected a .json, .npy, {', '.join(GEOMETRY_FILES)} file for input {name!r}, "
+            f"got {file!r}"
         )
     try:
+        if suffix in GEOMETRY_FILES:
+            if not path.is_file():
+                raise argparse.ArgumentTypeError(f"cannot read {file}: no such file")
+            return name, path
         if suffix == ".npy":
             return name, np.load(path, allow_pickle=False)
         with path.open(encoding="utf-8") as stream:
@@ -194,14 +206,20 @@ def _status_lines(status: JobStatus) -> str:
 
 
 def _put_results(results: Results, output: Path | None) -> None:
-    text = json.dumps(results.raw)
+    """Print the results as JSON, or write them to ``output`` in the format its suffix names:
+    .glb (the result's geometry), .npy (the one array output), else JSON."""
     if output is None:
-        print(text)
+        print(json.dumps(results.to_json()))
         return
     try:
-        output.write_text(text + "\n", encoding="utf-8")
+        if output.suffix.lower() in (".glb", ".npy"):
+            results.save(output)
+        else:
+            output.write_text(json.dumps(results.to_json()) + "\n", encoding="utf-8")
     except OSError as error:
         raise MorphserveError(f"cannot write {output}: {error.strerror or error}") from None
+    except ValueError as error:  # .npy of results with several arrays
+        raise UsageError(f"{error} (--output FILE.json writes them all)") from None
     print(f"results written to {output}", file=sys.stderr)
 
 
@@ -497,7 +515,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=parse_input,
         default=[],
         metavar="NAME=FILE",
-        help="an input from a .json (a JSON value) or .npy file; repeatable",
+        help="an input from a .json (a JSON value) or .npy file, or a geometry file "
+        "(.ply, .obj, .stl, .off, .glb) uploaded as it is; repeatable",
     )
     execute.add_argument(
         "--param",
@@ -515,7 +534,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--timeout", type=_seconds, metavar="S", help="with --wait: give up after S seconds"
     )
     execute.add_argument(
-        "--output", type=Path, metavar="FILE", help="with --wait: write the results here"
+        "--output", type=Path, metavar="FILE", help="with --wait: write the results here: "
+        ".glb for the result's geometry (glTF binary), .npy for its one array, else JSON"
     )
     execute.add_argument("--no-progress", action="store_true", help="with --wait: no progress bar")
 
@@ -544,7 +564,8 @@ def build_parser() -> argparse.ArgumentParser:
         sub = command(name, run, text, parents=[remote])
         sub.add_argument("job", metavar="JOB")
         if name == "results":
-            sub.add_argument("--output", type=Path, metavar="FILE", help="write the results here")
+            sub.add_argument("--output", type=Path, metavar="FILE", help="write the results "
+                             "here: .glb (geometry), .npy (the one array) or JSON")
     return parser
 
 

@@ -225,7 +225,7 @@ def decode_upload(upload: Upload, *, want_mesh: bool, max_glb_bytes: int) -> Any
                                     field=name) from None
     if fmt == "npy":
         try:
-            arr = np.load(io.BytesIO(upload.data), allow_pickle=False)
+            arr = _load_npy(upload.data)
         except (ValueError, OSError, EOFError) as exc:
             raise InvalidInputError(f"The part `{name}` is not a readable .npy array "
                                     f"(numeric, no pickled objects): {exc}", field=name) from None
@@ -233,7 +233,7 @@ def decode_upload(upload: Upload, *, want_mesh: bool, max_glb_bytes: int) -> Any
             raise InvalidInputError(f"Expected the .npy part `{name}` to hold numbers, got "
                                     f"dtype {getattr(arr, 'dtype', type(arr).__name__)}.",
                                     field=name)
-        return arr.astype(arr.dtype.newbyteorder("="), copy=False)
+        return arr
     geometry = _load_geometry(upload, fmt, max_glb_bytes)
     vertices = np.asarray(geometry.vertices, dtype=np.float64)
     faces = getattr(geometry, "faces", None)
@@ -244,6 +244,31 @@ def decode_upload(upload: Upload, *, want_mesh: bool, max_glb_bytes: int) -> Any
                                     "faces.", field=name)
         return {"vertices": vertices, "faces": np.asarray(faces, dtype=np.int64)}
     return vertices
+
+
+def _load_npy(data: bytes) -> np.ndarray:
+    """An .npy file's array: the header parsed by numpy, the data taken in one copy
+    (``np.load`` on a byte stream reads it in 256 kB pieces, ~5× slower for 24 MB)."""
+    from numpy.lib import format as npy_format
+
+    stream = io.BytesIO(data)
+    version = npy_format.read_magic(stream)
+    if version == (1, 0):
+        shape, fortran, dtype = npy_format.read_array_header_1_0(stream)
+    elif version == (2, 0):
+        shape, fortran, dtype = npy_format.read_array_header_2_0(stream)
+    else:  # other versions: numpy's own reader
+        return np.load(io.BytesIO(data), allow_pickle=False)
+    if dtype.hasobject:
+        raise ValueError("Object arrays cannot be loaded when allow_pickle=False")
+    count = int(np.prod(shape, dtype=np.int64))
+    offset = stream.tell()
+    if len(data) - offset < count * dtype.itemsize:
+        raise EOFError(f"the file holds {len(data) - offset} bytes of data; its header "
+                       f"declares {count * dtype.itemsize} (shape {shape}, dtype {dtype.str})")
+    flat = np.frombuffer(data, dtype=dtype, count=count, offset=offset)
+    return flat.reshape(shape, order="F" if fortran else "C").astype(
+        dtype.newbyteorder("="), order="C")  # a writable native-order copy
 
 
 def _load_geometry(upload: Upload, fmt: str, max_glb_bytes: int) -> Any:

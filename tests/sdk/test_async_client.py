@@ -92,7 +92,7 @@ def test_execute_with_wait_keeps_the_results(run: Any, server: FakeServer) -> No
 
     run(scenario)
     assert len(server.requests) == 1
-    assert server.requests[0].headers["Prefer"] == "wait=5"
+    assert server.requests[0].headers["Prefer"] == "wait=5, arrays=binary"
 
 
 def test_wait_raises_job_failed(run: Any, server: FakeServer) -> None:

@@ -361,7 +361,7 @@ def test_execute_leaves_validation_to_the_service(client: Client, server: FakeSe
 def test_execute_with_wait_keeps_the_results(client: Client, server: FakeServer) -> None:
     job = client.execute("alignment.rigid", wait=2.5, source=[[0, 0]], target=[[1, 1]])
     assert job.id == "job-1"
-    assert server.requests[0].headers["Prefer"] == "wait=3"
+    assert server.requests[0].headers["Prefer"] == "wait=3, arrays=binary"
     results = job.results()
     assert results["rmse"] == 0.001
     assert len(server.requests) == 1  # the results came with the answer
@@ -370,7 +370,7 @@ def test_execute_with_wait_keeps_the_results(client: Client, server: FakeServer)
 def test_execute_with_wait_falls_back_to_async(client: Client, server: FakeServer) -> None:
     server.done_within_wait = False
     job = client.execute("alignment.rigid", wait=0, source=[[0, 0]])
-    assert server.requests[0].headers["Prefer"] == "wait=0"
+    assert server.requests[0].headers["Prefer"] == "wait=0, arrays=binary"
     assert job.id == "job-1"
     with pytest.raises(ResultNotReady, match="job-1 is running"):
         server.jobs["job-1"]["step"] = 2

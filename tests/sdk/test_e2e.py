@@ -182,15 +182,83 @@ def test_nearest_assignment(client: Client) -> None:
     assert results["n_pairs"] == 3
 
 
-@pytest.mark.xfail(strict=True, reason="known limitation until typed binary arrays (issue 8): "
-                   "an empty JSON list carries no shape or dtype, so empty `pairs` come back "
-                   "as a float64 array of shape (0,)")
 def test_empty_assignment_pairs_keep_their_shape(client: Client) -> None:
-    results = client.execute("assignment.nearest", source=[[0.0, 0.0]], target=[[5.0, 5.0]],
-                             max_distance=0.1, wait=10).results()
-    assert results["n_pairs"] == 0 and results.raw["pairs"] == []
-    points = np.zeros((1, 2))
-    points[results["pairs"][:, 0]]  # what works for any non-empty answer
+    # the SDK asks for arrays as typed binary arrays (Prefer: arrays=binary): an empty one
+    # keeps its shape and dtype, which a JSON [] cannot carry
+    for job in (client.execute("assignment.nearest", source=[[0.0, 0.0]],
+                               target=[[5.0, 5.0]], max_distance=0.1, wait=10),
+                client.execute("assignment.nearest", source=[[0.0, 0.0]],
+                               target=[[5.0, 5.0]], max_distance=0.1)):
+        job.wait(timeout=20)
+        results = job.results()
+        assert results["n_pairs"] == 0
+        assert results["pairs"].shape == (0, 2) and results["pairs"].dtype.kind == "i"
+        points = np.zeros((1, 2))
+        assert points[results["pairs"][:, 0]].shape == (0, 2)  # as for any non-empty answer
+
+
+def _disk() -> "trimesh.Trimesh":
+    import trimesh
+
+    x, y = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 5))
+    v = np.column_stack([x.ravel(), y.ravel(), 0.1 * x.ravel() * y.ravel()])
+    f = [[i * 5 + j, i * 5 + j + 1, i * 5 + j + 6] for i in range(4) for j in range(4)] + \
+        [[i * 5 + j, i * 5 + j + 6, i * 5 + j + 5] for i in range(4) for j in range(4)]
+    return trimesh.Trimesh(v, np.array(f), process=False)
+
+
+def test_files_and_trimesh_objects_as_inputs(client: Client, tmp_path) -> None:  # noqa: ANN001
+    import trimesh
+
+    mesh = _disk()
+    by_arrays = client.execute("parameterization.tutte", mesh={
+        "vertices": mesh.vertices, "faces": mesh.faces}, wait=30).results()
+    by_trimesh = client.execute("parameterization.tutte", mesh=mesh, wait=30).results()
+    np.testing.assert_array_equal(by_trimesh["uv"], by_arrays["uv"])
+    for suffix in (".ply", ".obj", ".off", ".glb"):
+        path = tmp_path / f"disk{suffix}"
+        mesh.export(path)
+        for given in (path, str(path)):
+            uploaded = client.execute("parameterization.tutte", mesh=given, wait=30).results()
+            np.testing.assert_allclose(uploaded["uv"], by_arrays["uv"], atol=1e-6)
+    np.save(tmp_path / "points.npy", mesh.vertices)
+    pca = client.execute("embedding.pca", points=tmp_path / "points.npy", n_components=2,
+                         wait=30).results()
+    assert pca["embedding"].shape == (25, 2)
+    cloud = client.execute("embedding.pca", points=trimesh.PointCloud(mesh.vertices),
+                           n_components=2, wait=30).results()
+    np.testing.assert_array_equal(cloud["embedding"], pca["embedding"])
+
+
+def test_results_save_and_to_trimesh(client: Client, tmp_path) -> None:  # noqa: ANN001
+    import trimesh
+
+    mesh = _disk()
+    job = client.execute("parameterization.tutte", mesh=mesh, wait=30)
+    results = job.results()
+    glb = results.save(tmp_path / "out.glb")
+    scene = trimesh.load(glb, file_type="glb", process=False)
+    loaded = next(iter(scene.geometry.values()))
+    np.testing.assert_allclose(loaded.vertices, mesh.vertices, atol=1e-6)  # float32 in glTF
+    np.testing.assert_array_equal(loaded.faces, mesh.faces)
+    uv = results.to_trimesh().visual.uv
+    np.testing.assert_array_equal(uv, results["uv"])
+    results.save(tmp_path / "uv.npy", output="uv")
+    np.testing.assert_array_equal(np.load(tmp_path / "uv.npy"), results["uv"])
+    results.save(tmp_path / "out.json")
+    import json
+
+    assert json.loads((tmp_path / "out.json").read_text())["flipped_faces"] == 0
+    with pytest.raises(ValueError, match="Name the output"):
+        results.save(tmp_path / "x.npy")
+    with pytest.raises(ValueError, match=".glb, .npy or .json"):
+        results.save(tmp_path / "x.png")
+    distance = client.execute("assignment.distance", source=[[0.0, 0.0]], target=[[1.0, 1.0]],
+                              wait=10)
+    from morphserve import NotAcceptable
+
+    with pytest.raises(NotAcceptable):
+        distance.save(tmp_path / "none.glb")
 
 
 # -- waiting, progress, dismissal --------------------------------------------------------

@@ -212,11 +212,15 @@ def test_parse_input_rejects_what_it_cannot_read(tmp_path: Path) -> None:
     (tmp_path / "bad.json").write_text("[1, 2")
     np.save(tmp_path / "objects.npy", np.array([{"a": 1}], dtype=object))
     (tmp_path / "points.txt").write_text("1 2 3")
+    (tmp_path / "scan.PLY").write_bytes(b"ply")
+    assert cli.parse_input(f"mesh={tmp_path / 'scan.PLY'}") == ("mesh", tmp_path / "scan.PLY")
     cases = [
-        ("source", "expected NAME=FILE.json or NAME=FILE.npy, got 'source'"),
-        ("=a.json", "expected NAME=FILE.json or NAME=FILE.npy"),
-        (f"source={tmp_path / 'points.txt'}", "expected a .json or .npy file for input 'source'"),
+        ("source", "expected NAME=FILE, got 'source'"),
+        ("=a.json", "expected NAME=FILE"),
+        (f"source={tmp_path / 'points.txt'}", "expected a .json, .npy, .ply, .obj, .stl, .off, "
+         ".glb file for input 'source'"),
         (f"source={tmp_path / 'missing.npy'}", "cannot read"),
+        (f"source={tmp_path / 'missing.ply'}", "no such file"),
         (f"source={tmp_path / 'bad.json'}", "cannot read"),
         (f"source={tmp_path / 'objects.npy'}", "cannot read"),
     ]

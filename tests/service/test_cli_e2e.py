@@ -232,3 +232,31 @@ def test_closed_port() -> None:
     assert done.stderr.startswith(f"error: cannot reach {url}: ")
     assert "Connect" in done.stderr
     assert "Traceback" not in done.stderr and len(done.stderr.splitlines()) == 1
+
+
+def test_execute_mesh_file_to_glb(server, tmp_path: Path) -> None:  # noqa: ANN001
+    import trimesh
+
+    x, y = np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 4))
+    vertices = np.column_stack([x.ravel(), y.ravel(), 0.1 * x.ravel() ** 2])
+    faces = [[i * 4 + j, i * 4 + j + 1, i * 4 + j + 5] for i in range(3) for j in range(3)]
+    faces += [[i * 4 + j, i * 4 + j + 5, i * 4 + j + 4] for i in range(3) for j in range(3)]
+    trimesh.Trimesh(vertices, faces, process=False).export(tmp_path / "scan.ply")
+    out = tmp_path / "result.glb"
+    done = _ok(morphserve("execute", "parameterization.tutte", "--input",
+                          f"mesh={tmp_path / 'scan.ply'}", "--wait", "--no-progress",
+                          "--output", out, url=server.url))
+    assert done.stderr.strip().endswith(f"results written to {out}")
+    scene = trimesh.load(out, file_type="glb", process=False)
+    mesh = next(iter(scene.geometry.values()))
+    np.testing.assert_allclose(mesh.vertices, vertices, atol=1e-6)  # float32 in glTF
+    np.testing.assert_array_equal(mesh.faces, faces)
+    assert mesh.visual.uv.shape == (16, 2)  # TEXCOORD_0
+    # several arrays cannot go in one .npy: a usage error, not a traceback
+    npy = morphserve("execute", "parameterization.tutte", "--input",
+                     f"mesh={tmp_path / 'scan.ply'}", "--wait", "--no-progress",
+                     "--output", tmp_path / "r.npy", url=server.url)
+    assert npy.returncode == 2 and "Name the output" in npy.stderr, npy.stderr
+    missing = morphserve("execute", "parameterization.tutte", "--input",
+                         f"mesh={tmp_path / 'nope.ply'}", "--wait", url=server.url)
+    assert missing.returncode == 2 and "no such file" in missing.stderr
