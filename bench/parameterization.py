@@ -109,6 +109,9 @@ def main() -> None:
     from _param_abf import case_abf  # noqa: PLC0415
 
     rows += case_abf(args.repeats, args.quick)
+    from _param_extra import case_stretch_bijective  # noqa: PLC0415
+
+    rows += case_stretch_bijective(args.repeats, args.quick)
     print_table("parameterization vs libigl (time in s; flips / angle / area distortion)",
                 ("method", "ours", "igl", "ratio", "ours: quality", "igl: quality",
                  "max |Δuv|"), rows, left=(0, 4, 5))

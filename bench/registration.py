@@ -130,6 +130,12 @@ def main() -> None:
     args = parser.parse_args()
     k = 10 if args.quick else 1
     rows = case_icp(100_000 // k, args.repeats)
+    from _reg_cpd import case_cpd  # noqa: PLC0415
+
+    rows += case_cpd(args.repeats, args.quick)
+    from _reg_ransac import case_ransac  # noqa: PLC0415
+
+    rows += case_ransac(args.repeats, args.quick)
     print_ratio_table(rows, args.repeats)
 
 

@@ -6,8 +6,10 @@ from algorithms.parameterization._results import LocalGlobalResult, Parameteriza
 from algorithms.parameterization.abf import AbfResult, abf
 from algorithms.parameterization.arap import arap
 from algorithms.parameterization.asap import asap
+from algorithms.parameterization.bijective import BijectiveResult, bijective
 from algorithms.parameterization.conformal import conformal
 from algorithms.parameterization.harmonic import harmonic
+from algorithms.parameterization.stretch import StretchResult, stretch_minimizing
 from algorithms.parameterization.tutte import tutte
 
 __all__ = [
@@ -20,6 +22,10 @@ __all__ = [
     "conformal",
     "arap",
     "asap",
+    "StretchResult",
+    "stretch_minimizing",
+    "BijectiveResult",
+    "bijective",
     "AbfResult",
     "abf",
 ]

@@ -174,6 +174,70 @@ registry.add(Process(
     keywords=("uv", "texture coordinates", "asap", "conformal", "local/global"),
 ))
 
+# Stretch minimizing (Yoshizawa et al.) and bijective (symmetric Dirichlet + barrier) ------
+from algorithms.parameterization import (  # noqa: E402
+    BijectiveResult,
+    StretchResult,
+    bijective,
+    stretch_minimizing,
+)
+
+
+class StretchParams(_DiskParams):
+    boundary: Literal["circle", "square"] = Field("circle", description=_BOUNDARY)
+    power: float = Field(1.0, gt=0, le=4, description="Exponent p of the reweighting "
+                         "w_ij <- w_ij / sigma_j^p (sigma_j the stretch around vertex j); "
+                         "1 as Yoshizawa et al.")
+    max_iterations: int = Field(20, ge=1, le=10_000, description="Upper bound on "
+                                "reweightings.")
+    tolerance: float = Field(1e-4, ge=0, description="Stop when a reweighting lowers the L2 "
+                             "stretch by at most this fraction (or raises it).")
+
+
+class BijectiveParams(_DiskParams):
+    max_iterations: int = Field(100, ge=1, le=100_000, description="Upper bound on SLIM "
+                                "iterations.")
+    tolerance: float = Field(1e-6, ge=0, description=_TOLERANCE)
+
+
+registry.add(Process(
+    id="parameterization.stretch_minimizing",
+    title="Stretch-minimizing parameterization (fixed boundary)",
+    description="Starts from the mean value Tutte map (boundary on a circle or square), then "
+    "divides each weight w_ij by the stretch around vertex j and solves again while "
+    "Sander et al.'s L2 stretch falls; keeps the best map. Positive weights and a convex "
+    "boundary: no flipped faces. Reports the L2 and L-infinity stretch too." + _REPORTS,
+    function=stretch_minimizing,
+    params=StretchParams,
+    result=StretchResult,
+    reference="Yoshizawa, S., Belyaev, A., Seidel, H.-P. (2004). A fast and simple "
+    "stretch-minimizing mesh parameterization. Shape Modeling International 2004, 200–208; "
+    "Sander, P. V., Snyder, J., Gortler, S. J., Hoppe, H. (2001). Texture mapping "
+    "progressive meshes. SIGGRAPH 2001.",
+    long=True,
+    keywords=("uv", "texture coordinates", "stretch", "texture stretch", "yoshizawa",
+              "sander"),
+))
+
+registry.add(Process(
+    id="parameterization.bijective",
+    title="Bijective parameterization (symmetric Dirichlet, free boundary)",
+    description="Minimises the symmetric Dirichlet energy plus a boundary barrier from a "
+    "flip-free Tutte start by SLIM steps; the line search never lets a face flip or the "
+    "boundary cross itself (quadratic step bounds), so the map is bijective by "
+    "construction." + _REPORTS,
+    function=bijective,
+    params=BijectiveParams,
+    result=BijectiveResult,
+    reference="Smith, J., Schaefer, S. (2015). Bijective parameterization with free "
+    "boundaries. ACM Trans. Graph. 34(4); Rabinovich, M., Poranne, R., Panozzo, D., "
+    "Sorkine-Hornung, O. (2017). Scalable locally injective mappings. ACM Trans. Graph. "
+    "36(2).",
+    long=True,
+    keywords=("uv", "texture coordinates", "bijective", "injective", "symmetric dirichlet",
+              "slim", "free boundary"),
+))
+
 # ABF++ (angle-based flattening) --------------------------------------------------------
 from algorithms.parameterization import AbfResult, abf  # noqa: E402
 

@@ -313,7 +313,12 @@ def _glb_cases() -> dict[str, tuple[str, dict[str, Any]]]:
                                           "target": (pts + [1, 0, 0]).tolist()}),
         "registration": ("registration.icp", {"source": pts.tolist(),
                                               "target": (pts + [0.01, 0, 0]).tolist()}),
+        "cpd": ("registration.cpd", {"source": pts.tolist(), "target": (pts * 1.1).tolist(),
+                                     "model": "affine"}),
+        "multiway": ("registration.multiway", {"sets": [pts.tolist(), (pts + 1).tolist(),
+                                                        (pts - 1).tolist()]}),
         "parameterization": ("parameterization.tutte", {"mesh": m}),
+        "abf": ("parameterization.abf", {"mesh": m}),
         "deformation": ("deformation.harmonic", {"mesh": m, "handles": {
             "indices": [0, 35], "positions": [[0, 0, 0], [1, 1, 0.5]]}}),
         "layout": ("layout.laplacian", {"mesh": m}),

@@ -187,12 +187,35 @@ CATALOGUE: list[tuple[str, str, Any, dict[str, str], int, str]] = [
      {}, 422, "target_normals"),
     ("too few points for point-to-plane", "registration.icp", {
         "source": SQ, "target": MOVED, "metric": "point_to_plane"}, WAIT, 422, "source"),
+    ("RANSAC features on 2-D points", "registration.ransac", {
+        "source": [[0, 0], [1, 0], [0, 1], [1, 2]], "target": [[0, 0], [1, 0], [0, 1], [1, 2]]},
+     {}, 422, "features"),
+    ("unknown feature kind", "registration.ransac", {"source": SQ, "target": MOVED,
+                                                     "features": "sift"}, {}, 422, "features"),
+    ("collinear source for RANSAC", "registration.ransac", {
+        "source": [[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]], "target": MOVED}, {}, 422,
+     "source"),
+    ("voxel leaves too few points", "registration.ransac", {
+        "source": SQ, "target": MOVED, "voxel_size": 100}, WAIT, 422, "voxel_size"),
+    ("outlier weight of one", "registration.cpd", {"source": SQ, "target": MOVED, "w": 1.0}, {},
+     422, "w"),
+    ("unknown cpd model", "registration.cpd", {"source": SQ, "target": MOVED,
+                                               "model": "similarity"}, {}, 422, "model"),
+    ("NaN in one set", "registration.multiway", {"sets": [SQ, SQ, [
+        [0, 0, 0], [1, NAN, 0], [0, 1, 0], [0, 0, 1]]]}, {}, 422, "sets[2]"),
+    ("sets of different lengths", "registration.multiway", {"sets": [SQ, SQ[:3]]}, {}, 422,
+     "sets[1]"),
+    ("a single set", "registration.multiway", {"sets": [SQ]}, {}, 422, "sets"),
     # -- parameterization --------------------------------------------------------------------
     ("closed mesh is not a disk", "parameterization.harmonic", {"mesh": {
         "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
         "faces": [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]}}, {}, 422, "mesh"),
     ("unknown boundary shape", "parameterization.tutte", {"mesh": STRIP, "boundary": "star"}, {},
      422, "boundary"),
+    ("stretch power not positive", "parameterization.stretch_minimizing", {
+        "mesh": STRIP, "power": 0}, {}, 422, "power"),
+    ("bijective zero iterations", "parameterization.bijective", {
+        "mesh": STRIP, "max_iterations": 0}, {}, 422, "max_iterations"),
     # -- embedding, clustering, classification ------------------------------------------------
     ("more components than dimensions", "embedding.pca", {"points": SQ, "n_components": 5}, {},
      422, "n_components"),

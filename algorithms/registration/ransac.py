@@ -1,0 +1,666 @@
+"""RANSAC global registration: a rigid transform from ``source`` to ``target`` without a
+start, from sampled correspondences (FPFH feature matches, or the seed's random point
+triples), refined by ICP."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.linalg import RANK_RTOL, numerical_rank, procrustes
+from algorithms.core.progress import Progress, as_progress
+from algorithms.core.threads import single_blas_thread
+from algorithms.core.types import FloatArray, IntArray, RngLike
+from algorithms.core.validation import (
+    as_bool,
+    as_choice,
+    as_float,
+    as_int,
+    as_points,
+    check_min_points,
+    same_dim,
+)
+from algorithms.registration.features import (
+    MIN_FEATURE_POINTS,
+    _fpfh,
+    feature_normals,
+    match_features,
+    point_spacing,
+    voxel_downsample,
+)
+from algorithms.registration.icp import _check_span, icp
+
+__all__ = ["RANSACResult", "ransac", "check_inputs", "FEATURES"]
+
+#: The accepted values of ``features``.
+FEATURES = ("fpfh", "none")
+#: Open3D's ``CorrespondenceCheckerBasedOnEdgeLength(0.9)``: every edge of the sample and
+#: its image may differ by at most this factor.
+EDGE_SIMILARITY = 0.9
+#: A sample whose smallest relevant singular value is below this fraction of its largest
+#: (a sliver triangle, nearly collinear points) fixes the rotation poorly: it is skipped.
+FLAT_RTOL = 0.05
+#: Hypotheses drawn per vectorised batch. Fixed, so that results never depend on it.
+BATCH = 1024
+#: Residuals evaluated per block when scoring hypotheses (bounds the memory).
+SCORE_BLOCK = 1 << 18
+#: Source points used to score a hypothesis without features (a seeded subsample above).
+SCORE_POINTS = 2000
+#: Source points the ICP refinement uses at most (a seeded subsample above).
+REFINE_POINTS = 20000
+#: kd-tree queries of this many points or more run on all cores (results are per point).
+PARALLEL_FROM = 8192
+#: ICP iterations of the refinement.
+REFINE_ITERATIONS = 30
+#: Default radii, in units of the length scale (``voxel_size`` or the point spacing), as in
+#: Open3D's global registration tutorial.
+FEATURE_RADIUS_FACTOR = 5.0
+DISTANCE_FACTOR = 1.5
+#: Without features or voxels, the default threshold is this fraction of the median distance
+#: from a source point to its nearest neighbour.
+NEAREST_FACTOR = 0.5
+#: Neighbours per estimated normal.
+NORMAL_NEIGHBORS = 10
+#: Targets of fewer points are refined point-to-point (too few for meaningful normals).
+PLANE_MIN_POINTS = 3 * NORMAL_NEIGHBORS
+#: Fewer mutual matches than this many samples' worth: use the one-sided matches (Open3D).
+MUTUAL_MIN_SAMPLES = 3
+#: A best hypothesis supported by fewer inliers than this (the sample itself included) is
+#: no registration.
+MIN_SUPPORT = 6
+
+
+@dataclass(frozen=True, eq=False)
+class RANSACResult:
+    """The rigid transform RANSAC found from ``source`` to ``target``, and how well it fits.
+
+    Attributes
+    ----------
+    transform : (d+1, d+1) float array
+        The homogeneous matrix ``[[R, t], [0, 1]]`` that maps source points onto the target
+        (after the ICP refinement when ``refine`` is true). The identity, labelled
+        ``converged=False``, when no sample passed the checks.
+    rotation : (d, d) float array
+        The rotation ``R`` (determinant +1).
+    translation : (d,) float array
+        The translation ``t`` applied after the rotation.
+    rmse : float
+        Root-mean-square distance from the moved source points to their nearest target
+        points, over the source points that have one within ``max_correspondence_distance``
+        (Open3D's ``inlier_rmse``), on the full input sets; 0.0 when there are none.
+    fitness : float
+        The fraction of source points with a target point within
+        ``max_correspondence_distance`` after the transform (Open3D's fitness), on the full
+        input sets.
+    inlier_count : int
+        The number of those source points (``fitness`` times the source size).
+    correspondence_count : int
+        The candidate correspondences RANSAC sampled from: the feature matches for
+        ``features="fpfh"``; for ``features="none"``, the source times the target size
+        (every pair is a candidate).
+    iterations : int
+        Hypotheses (samples) drawn, those rejected by the checks included.
+    converged : bool
+        True when the confidence-based stopping rule was met: the best hypothesis's inlier
+        ratio ``w`` made ``log(1 - confidence) / log(1 - w^s)`` samples (``s`` per sample)
+        enough before ``max_iterations``, with at least 6 inliers. False otherwise (see
+        ``reason``); a ``ConvergenceWarning`` accompanies False.
+    reason : str
+        Why the sampling stopped and what the refinement did, in words.
+    """
+
+    transform: FloatArray
+    rotation: FloatArray
+    translation: FloatArray
+    rmse: float
+    fitness: float
+    inlier_count: int
+    correspondence_count: int
+    iterations: int
+    converged: bool
+    reason: str
+
+
+@dataclass
+class _Best:
+    error: float
+    inliers: int
+    ratio: float
+    rotation: FloatArray
+    translation: FloatArray
+    number: int  # 1-based number of the hypothesis
+
+
+def ransac(
+    source: Any,
+    target: Any,
+    *,
+    features: str = "fpfh",
+    voxel_size: float | None = None,
+    feature_radius: float | None = None,
+    max_correspondence_distance: float | None = None,
+    max_iterations: int = 100_000,
+    confidence: float = 0.999,
+    mutual_filter: bool = True,
+    refine: bool = True,
+    seed: RngLike = 0,
+    progress: Progress | None = None,
+) -> RANSACResult:
+    r"""Register ``source`` onto ``target`` rigidly without a start: random sample consensus
+    over candidate correspondences, then ICP.
+
+    1. **Down-sampling** (optional): with ``voxel_size`` each set is replaced by the
+       centroids of its points in each occupied voxel.
+    2. **Candidates.** ``features="fpfh"`` (3-D): FPFH descriptors of both sets
+       (:func:`~algorithms.registration.fpfh`, radius ``feature_radius``), matched by
+       nearest neighbour in feature space, mutually with ``mutual_filter``.
+       ``features="none"``: the seed's method, every (source point, target point) pair is
+       a candidate and samples are drawn from each set independently.
+    3. **Hypotheses.** Each draws :math:`s = \max(3, d)` candidate pairs with the seeded
+       generator and is skipped unless every edge of the sample and of its image agree
+       within a factor 0.9 (Open3D's edge-length checker) and the sample is not nearly
+       collinear; the rest get the Kabsch fit :math:`(R, t)` of their pairs, are skipped
+       unless every sampled pair then lies within ``max_correspondence_distance``
+       (Open3D's distance checker), and are scored by the truncated squared error
+       (MSAC, Torr & Zisserman 2000)
+
+       .. math::
+
+           E(R, t) = \sum_i \min\big(\lVert R x_i + t - y_i \rVert^2, \tau^2\big)
+
+       over the candidate pairs (features) or over the source points and their nearest
+       target points (no features), :math:`\tau` = ``max_correspondence_distance``. The
+       hypothesis of least error is kept; its inliers (residual :math:`\le\tau`) give the
+       inlier ratio :math:`w` of the candidates.
+    4. **Stopping**: after :math:`N = \log(1 - c) / \log(1 - w^s)` hypotheses for the
+       ``confidence`` :math:`c` (the number after which an all-inlier sample has been
+       drawn with probability :math:`c`), or ``max_iterations``.
+    5. **Refinement** (``refine``): ICP from the RANSAC transform
+       (:func:`~algorithms.registration.icp`, point-to-plane against the (down-sampled)
+       target with its normals in 3-D when it has at least 30 points and is not flat, else
+       point-to-point; at most 20,000 source points, pairs within
+       ``max_correspondence_distance``); kept only when it lowers the truncated error
+       :math:`\sum_i \min(r_i^2, \tau^2)` of its metric (plane or point distances).
+
+    Parameters
+    ----------
+    source : (n, d) float array
+        The points to move; ``d = 3`` with features, any ``d >= 2`` without.
+    target : (m, d) float array
+        The points to register onto; any size ``m``; the overlap may be partial.
+    features : {"fpfh", "none"}, default "fpfh"
+        Where candidate pairs come from (above). ``"none"`` needs no local structure but
+        finds an all-inlier sample with probability about :math:`(k/nm)^3` per hypothesis
+        (``k`` overlapping points): it is for small sets, tens of points.
+    voxel_size : float, optional
+        Down-sample both sets on a grid of this step first (``> 0``); also the length
+        scale of the default radii. Without it the scale is the source's point spacing
+        (median distance to the 4th nearest neighbour, :func:`~.features.point_spacing`).
+        Noisy scans need a voxel several times the noise.
+    feature_radius : float, optional
+        FPFH neighbourhood radius (``> 0``); 5 × the scale when omitted.
+    max_correspondence_distance : float, optional
+        The inlier threshold :math:`\tau` (``> 0``) of scoring, checking, refinement and
+        the reported ``fitness``; 1.5 × the scale when omitted, except with
+        ``features="none"`` and no ``voxel_size``: half the median distance from a source
+        point to its nearest neighbour (so that a point's partner is unambiguous).
+    max_iterations : int, default 100000
+        Most hypotheses to draw (``>= 1``), Open3D's default.
+    confidence : float, default 0.999
+        The probability of having drawn an all-inlier sample at which to stop,
+        ``0 < confidence <= 1`` (1 never stops early).
+    mutual_filter : bool, default True
+        Keep only mutual nearest neighbours in feature space; falls back to the one-sided
+        matches when fewer than 9 remain (as Open3D).
+    refine : bool, default True
+        Refine with ICP (step 5).
+    seed : int or numpy.random.Generator, default 0
+        Seeds the sampling; the same seed gives the same result, bit for bit (no step
+        depends on the number of threads).
+    progress : callable, optional
+        ``progress(done, total, message)`` after every 1024 hypotheses and after the
+        refinement; it may raise :class:`~algorithms.core.errors.Cancelled`.
+
+    Returns
+    -------
+    RANSACResult
+        ``transform``, ``rotation``, ``translation``, ``rmse``, ``fitness``,
+        ``inlier_count``, ``correspondence_count``, ``iterations``, ``converged``,
+        ``reason``.
+
+    Raises
+    ------
+    InvalidInputError
+        Malformed or non-finite points; differing dimensions (``field="target"``); fewer
+        than ``max(3, d)`` points (4 with features); ``features="fpfh"`` with points that
+        are not 3-D (``field="features"``); a ``voxel_size`` that leaves too few points
+        (``field="voxel_size"``); an unknown option or a parameter out of range.
+    DegenerateInputError
+        A set whose points are all coincident or (in 3-D) collinear: the rotation about
+        their line is undetermined.
+
+    Warns
+    -----
+    ConvergenceWarning
+        Whenever ``converged`` is False.
+
+    Notes
+    -----
+    **The seed's RANSAC, and what is added.** The seed document picks a few points of each
+    set at random, "assumes they correspond in order", aligns them, measures the error of
+    the aligned sets and keeps the smallest error over many repetitions, "really random
+    exhaustive search". ``features="none"`` is exactly that, with the error truncated at
+    :math:`\tau` (so that points outside the overlap cannot dominate it: MSAC) and with the
+    edge-length and distance checks, which reject most non-congruent samples before any
+    scoring. Exhaustive search of point triples costs :math:`O(n^3 m^3)`, so on real scans
+    candidates come from local features instead, as in Open3D (``features="fpfh"``).
+
+    **Never a silent identity.** When no hypothesis passes the checks, when the best has
+    fewer than 6 inliers, or when the confidence was not reached within
+    ``max_iterations``, ``converged`` is False and ``reason`` says which; the transform is
+    then the best found (the identity when none was), and ``fitness`` shows the overlap.
+
+    **Reproducibility.** Hypotheses are drawn and scored in fixed batches of 1024 and taken
+    in their drawing order, and the stopping rule is applied after each one as if they
+    were processed one by one; kd-tree queries are per point. The same input and ``seed``
+    therefore give the same bits (Open3D's parallel RANSAC does not, Open3D #7475).
+
+    References
+    ----------
+    .. [1] M. A. Fischler and R. C. Bolles, "Random sample consensus", Comm. ACM 24(6),
+       381-395, 1981.
+    .. [2] P. H. S. Torr and A. Zisserman, "MLESAC: a new robust estimator with
+       application to estimating image geometry", CVIU 78(1), 138-156, 2000 (MSAC).
+    .. [3] R. B. Rusu, N. Blodow and M. Beetz, "Fast Point Feature Histograms (FPFH) for
+       3D registration", ICRA 2009.
+    .. [4] Q.-Y. Zhou, J. Park and V. Koltun, "Open3D: a modern library for 3D data
+       processing", arXiv:1801.09847, 2018 (checkers, fitness, stopping rule).
+    .. [5] The seed document, section "inlier / outlier", algorithm (RANSAC).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from algorithms.registration import ransac
+    >>> src = np.array([[0, 0, 0], [2, 0, 0], [0, 1, 0], [0, 0, 0.5], [1, 1, 0.2],
+    ...                 [0.5, 0.2, 0.4]])
+    >>> c, s = np.cos(2.0), np.sin(2.0)
+    >>> dst = src[::-1] @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T + [3, 0, 1]
+    >>> res = ransac(src, dst, features="none", max_correspondence_distance=0.05)
+    >>> res.converged, res.fitness
+    (True, 1.0)
+    >>> bool(np.allclose(res.rotation, [[c, -s, 0], [s, c, 0], [0, 0, 1]]))
+    True
+    """
+    report = as_progress(progress)
+    src = as_points(source, name="source", min_dim=2)
+    dst = as_points(target, name="target")
+    same_dim(src, dst, names=("source", "target"))
+    features = as_choice(features, FEATURES, name="features")
+    d = src.shape[1]
+    voxel = None if voxel_size is None else as_float(
+        voxel_size, name="voxel_size", minimum=0.0, inclusive=False)
+    radius = None if feature_radius is None else as_float(
+        feature_radius, name="feature_radius", minimum=0.0, inclusive=False)
+    tau = None if max_correspondence_distance is None else as_float(
+        max_correspondence_distance, name="max_correspondence_distance", minimum=0.0,
+        inclusive=False)
+    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
+    confidence = as_float(confidence, name="confidence", minimum=0.0, maximum=1.0,
+                          inclusive=(False, True))
+    mutual_filter = as_bool(mutual_filter, name="mutual_filter")
+    refine = as_bool(refine, name="refine")
+    s, need = check_inputs(src, dst, features)
+    rng = np.random.default_rng(seed)
+
+    # 1. down-sampling and scales
+    s_pts, t_pts = src, dst
+    if voxel is not None:
+        s_pts, t_pts = voxel_downsample(src, voxel), voxel_downsample(dst, voxel)
+        for pts, name in ((s_pts, "source"), (t_pts, "target")):
+            if pts.shape[0] < need:
+                raise InvalidInputError(
+                    f"Expected `voxel_size` to leave at least {need} `{name}` points, got "
+                    f"{pts.shape[0]} with voxel_size = {voxel:g}; use a smaller voxel.",
+                    field="voxel_size")
+    s_tree, t_tree = cKDTree(s_pts), cKDTree(t_pts)
+    scale = voxel if voxel is not None else point_spacing(s_pts, s_tree)
+    if not scale > 0.0:  # most points repeated: fall back to a fraction of the size
+        centred = s_pts - s_pts.mean(axis=0)
+        scale = 1e-2 * math.sqrt(float(np.einsum("ij,ij->", centred, centred)) / len(s_pts))
+    if tau is None and features == "none" and voxel is None:
+        # small sets: half the typical gap to the nearest point, so that an inlier is
+        # unambiguous (a radius of several gaps would let wrong samples score as well)
+        gap = float(np.median(s_tree.query(s_pts, k=2)[0][:, 1]))
+        tau = NEAREST_FACTOR * gap if gap > 0.0 else DISTANCE_FACTOR * scale
+    tau = DISTANCE_FACTOR * scale if tau is None else tau
+    radius = FEATURE_RADIUS_FACTOR * scale if radius is None else radius
+
+    # 2. candidates
+    t_normals = None
+    if features == "fpfh":
+        s_normals = feature_normals(s_pts, s_tree, NORMAL_NEIGHBORS)
+        t_normals = feature_normals(t_pts, t_tree, NORMAL_NEIGHBORS)
+        fs = _fpfh(s_pts, s_normals, s_tree, radius, 100)
+        ft = _fpfh(t_pts, t_normals, t_tree, radius, 100)
+        cs, ct = match_features(fs, ft, mutual=mutual_filter)
+        if mutual_filter and cs.size < MUTUAL_MIN_SAMPLES * s:
+            cs, ct = match_features(fs, ft, mutual=False)
+        search: _Search = _FeatureSearch(s_pts[cs], t_pts[ct], tau, s)
+    else:
+        search = _PointSearch(s_pts, t_pts, t_tree, tau, s, rng)
+
+    # 3-4. hypotheses (small products: one BLAS thread, the same bits on any machine)
+    with single_blas_thread():
+        best, drawn, limit = _sample(search, rng, max_iterations, confidence, report)
+    candidates = search.count
+    converged = best is not None and best.inliers >= MIN_SUPPORT and \
+        _needed(best.ratio, confidence, s) <= drawn
+    if best is None:
+        reason = (f"no hypothesis of {drawn} passed the checks (edge lengths within "
+                  f"{EDGE_SIMILARITY:g}, every sampled pair within max_correspondence_distance "
+                  f"= {tau:.6g}) among {candidates} candidate correspondences: no transform "
+                  "found, the identity is returned")
+    elif best.inliers < MIN_SUPPORT:
+        reason = (f"the best hypothesis is supported by only {best.inliers} candidate "
+                  f"correspondences within max_correspondence_distance = {tau:.6g} (at least "
+                  f"{MIN_SUPPORT} needed) after {drawn} hypotheses")
+    elif converged:
+        reason = (f"confidence {confidence:g} reached after {drawn} hypotheses (inlier ratio "
+                  f"{best.ratio:.3g} of {candidates} candidates)")
+    else:
+        reason = (f"max_iterations = {max_iterations} reached before confidence "
+                  f"{confidence:g} (the best inlier ratio {best.ratio:.3g} of {candidates} "
+                  f"candidates needs {_needed(best.ratio, confidence, s):.3g} hypotheses)")
+
+    transform = np.eye(d + 1)
+    if best is not None:
+        transform[:d, :d], transform[:d, d] = best.rotation, best.translation
+
+    # 5. refinement
+    if refine and best is not None:
+        with single_blas_thread():  # ICP's sums over all pairs: the same bits on any machine
+            transform, note = _refine(src, t_pts, t_normals, transform, tau, rng)
+        reason = f"{reason}; {note}"
+    report(max_iterations + 1, max_iterations + 1, "RANSAC finished")
+
+    # per-point queries: threads change the speed, never the result
+    workers = -1 if src.shape[0] >= PARALLEL_FROM else 1
+    dist, _ = cKDTree(dst, balanced_tree=False, compact_nodes=False).query(
+        src @ transform[:d, :d].T + transform[:d, d], distance_upper_bound=tau * (1 + 1e-9),
+        workers=workers)
+    inl = dist[dist <= tau]
+    rmse = math.sqrt(float(inl @ inl) / inl.size) if inl.size else 0.0
+    if not converged:
+        warnings.warn(f"RANSAC did not converge: {reason}.", ConvergenceWarning, stacklevel=2)
+    return RANSACResult(
+        transform=transform,
+        rotation=transform[:d, :d].copy(),
+        translation=transform[:d, d].copy(),
+        rmse=rmse,
+        fitness=inl.size / src.shape[0],
+        inlier_count=int(inl.size),
+        correspondence_count=int(candidates),
+        iterations=int(drawn),
+        converged=bool(converged),
+        reason=reason,
+    )
+
+
+def check_inputs(src: FloatArray, dst: FloatArray, features: str) -> tuple[int, int]:
+    """What :func:`ransac` demands of checked point sets of the same dimension ``d``: 3-D
+    for features, enough points, not all collinear. Returns the sample size ``max(3, d)``
+    and the fewest points a set may have."""
+    d = src.shape[1]
+    if features == "fpfh" and d != 3:
+        raise InvalidInputError(
+            f"Expected 3-D points for features='fpfh' (FPFH is defined in 3-D), got d = {d}; "
+            "use features='none' in other dimensions.", field="features")
+    s = max(3, d)
+    need = max(s, MIN_FEATURE_POINTS) if features == "fpfh" else s
+    why = ("a normal needs a point and at least 2 neighbours" if features == "fpfh"
+           else f"a sample has {s} points in {d}-D")
+    check_min_points(src, need, name="source", reason=why)
+    check_min_points(dst, need, name="target", reason=why)
+    _check_span(src, "source", d - 1, "the rotation is undetermined")
+    _check_span(dst, "target", d - 1, "the rotation is undetermined")
+    return s, need
+
+
+# --- the two kinds of candidates ------------------------------------------------------------
+
+
+class _Search:
+    """How samples are drawn and hypotheses scored: ``count`` candidate pairs, samples of
+    ``s`` pairs, inlier threshold ``tau``."""
+
+    count: int
+    s: int
+    tau: float
+
+    def draw(self, rng: np.random.Generator, b: int) -> tuple[FloatArray, FloatArray, Any]:
+        """``b`` samples: source points, target points (``(b, s, d)`` each), and a validity
+        mask (samples that repeat a point are invalid)."""
+        raise NotImplementedError
+
+    def score(self, rot: FloatArray, shift: FloatArray) -> tuple[FloatArray, IntArray]:
+        """Truncated squared errors and inlier counts of ``h`` hypotheses."""
+        raise NotImplementedError
+
+    def ratio(self, rot: FloatArray, shift: FloatArray, inliers: int) -> float:
+        """The inlier ratio of the candidates under one hypothesis."""
+        raise NotImplementedError
+
+
+def _distinct(idx: IntArray) -> Any:
+    s = idx.shape[1]
+    ok = np.ones(idx.shape[0], dtype=bool)
+    for a in range(s):
+        for b in range(a + 1, s):
+            ok &= idx[:, a] != idx[:, b]
+    return ok
+
+
+class _FeatureSearch(_Search):
+    r"""Candidates are feature matches ``ps[k] ↔ pt[k]``. A hypothesis's squared residuals
+    over all of them come from one matrix product: with the sets centred (``p``, ``q``),
+    :math:`\lVert R p + t - q\rVert^2 = |p|^2 + |q - t|^2 + 2 p \cdot R^\mathsf{T} t
+    - 2 \operatorname{vec}(q p^\mathsf{T}) \cdot \operatorname{vec}(R)`, so ``h``
+    hypotheses cost an ``(M, 9) @ (9, h)`` product (BLAS on one thread: the same bits on any
+    machine) instead of ``h`` transforms of ``M`` points."""
+
+    def __init__(self, ps: FloatArray, pt: FloatArray, tau: float, s: int) -> None:
+        self.ps, self.pt, self.tau, self.tau2, self.s = ps, pt, tau, tau * tau, s
+        self.count = ps.shape[0]
+        self.cs = ps.mean(axis=0) if self.count else np.zeros(3)
+        self.ct = pt.mean(axis=0) if self.count else np.zeros(3)
+        p, q = ps - self.cs, pt - self.ct
+        self.p, self.q = p, q
+        self.pp = np.einsum("ij,ij->i", p, p)
+        self.qq = np.einsum("ij,ij->i", q, q)
+        self.qp = np.einsum("mi,mj->mij", q, p).reshape(-1, 9)    # vec(q pᵀ), row-major
+
+    def draw(self, rng: np.random.Generator, b: int) -> tuple[FloatArray, FloatArray, Any]:
+        if self.count == 0:
+            return np.zeros((b, self.s, 3)), np.zeros((b, self.s, 3)), np.zeros(b, bool)
+        idx = rng.integers(0, self.count, size=(b, self.s))
+        return self.ps[idx], self.pt[idx], _distinct(idx)
+
+    def score(self, rot: FloatArray, shift: FloatArray) -> tuple[FloatArray, IntArray]:
+        h, m = rot.shape[0], self.count
+        err, inl = np.empty(h), np.empty(h, dtype=np.int64)
+        step = max(1, SCORE_BLOCK // max(m, 1))
+        for a in range(0, h, step):  # the caller limits BLAS to one thread
+            r, t = rot[a:a + step], shift[a:a + step]
+            t = t + np.einsum("hij,j->hi", r, self.cs) - self.ct    # in centred frames
+            rtt = np.einsum("hij,hi->hj", r, t)                      # Rᵀ t
+            r2 = (self.pp[:, None] + self.qq[:, None] + np.einsum("hi,hi->h", t, t)
+                  - 2.0 * (self.q @ t.T) + 2.0 * (self.p @ rtt.T)
+                  - 2.0 * (self.qp @ r.reshape(-1, 9).T))          # (M, h)
+            inl[a:a + step] = np.count_nonzero(r2 <= self.tau2, axis=0)
+            err[a:a + step] = np.minimum(r2, self.tau2).sum(axis=0)
+        return err, inl
+
+    def ratio(self, rot: FloatArray, shift: FloatArray, inliers: int) -> float:
+        return inliers / self.count
+
+
+class _PointSearch(_Search):
+    def __init__(self, s_pts: FloatArray, t_pts: FloatArray, t_tree: cKDTree, tau: float,
+                 s: int, rng: np.random.Generator) -> None:
+        self.s_pts, self.t_pts, self.tree, self.tau, self.s = s_pts, t_pts, t_tree, tau, s
+        n = s_pts.shape[0]
+        self.count = n * t_pts.shape[0]
+        self.scored = s_pts if n <= SCORE_POINTS else \
+            s_pts[np.sort(rng.choice(n, SCORE_POINTS, replace=False))]
+
+    def draw(self, rng: np.random.Generator, b: int) -> tuple[FloatArray, FloatArray, Any]:
+        ia = rng.integers(0, self.s_pts.shape[0], size=(b, self.s))
+        ib = rng.integers(0, self.t_pts.shape[0], size=(b, self.s))
+        return self.s_pts[ia], self.t_pts[ib], _distinct(ia) & _distinct(ib)
+
+    def score(self, rot: FloatArray, shift: FloatArray) -> tuple[FloatArray, IntArray]:
+        h, k = rot.shape[0], self.scored.shape[0]
+        moved = np.einsum("hij,mj->hmi", rot, self.scored) + shift[:, None, :]
+        dist, _ = self.tree.query(moved.reshape(h * k, -1),
+                                  distance_upper_bound=self.tau * (1 + 1e-9))
+        dist = dist.reshape(h, k)
+        inside = dist <= self.tau
+        err = np.where(inside, dist * dist, self.tau * self.tau).sum(axis=1)
+        return err, np.count_nonzero(inside, axis=1)
+
+    def ratio(self, rot: FloatArray, shift: FloatArray, inliers: int) -> float:
+        moved = self.scored @ rot.T + shift
+        pairs = self.tree.query_ball_point(moved, self.tau, return_length=True).sum()
+        return float(pairs) / (self.scored.shape[0] * self.t_pts.shape[0])
+
+
+# --- sampling -------------------------------------------------------------------------------
+
+
+def _needed(ratio: float, confidence: float, s: int) -> float:
+    """Hypotheses after which an all-inlier sample was drawn with probability ``confidence``."""
+    p = ratio ** s
+    if p >= 1.0:
+        return 0.0
+    if p <= 0.0 or confidence >= 1.0:
+        return math.inf
+    return math.log1p(-confidence) / math.log1p(-p)
+
+
+def _kabsch(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Best rotations and translations ``b ≈ R a + t`` of a stack of samples ``(h, s, d)``."""
+    ca, cb = a.mean(axis=1), b.mean(axis=1)
+    cov = np.einsum("hki,hkj->hij", b - cb[:, None, :], a - ca[:, None, :])
+    rot = procrustes(cov).rotation
+    return rot, cb - np.einsum("hij,hj->hi", rot, ca)
+
+
+def _checks(a: FloatArray, b: FloatArray) -> Any:
+    """Open3D's edge-length check, and no (nearly) collinear samples."""
+    s, d = a.shape[1], a.shape[2]
+    ok = np.ones(a.shape[0], dtype=bool)
+    for i in range(s):
+        for j in range(i + 1, s):
+            la = np.linalg.norm(a[:, i] - a[:, j], axis=1)
+            lb = np.linalg.norm(b[:, i] - b[:, j], axis=1)
+            ok &= (la >= EDGE_SIMILARITY * lb) & (lb >= EDGE_SIMILARITY * la) & (la > 0)
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        centred = a[idx] - a[idx].mean(axis=1, keepdims=True)
+        sv = np.linalg.svd(centred, compute_uv=False)          # (h, min(s, d))
+        ok[idx] = sv[:, d - 2] > FLAT_RTOL * sv[:, 0]
+    return ok
+
+
+def _sample(search: _Search, rng: np.random.Generator, max_iterations: int,
+            confidence: float, report: Progress) -> tuple[_Best | None, int, int]:
+    """Draw, check, fit and score hypotheses batch by batch; apply the stopping rule after
+    each hypothesis in drawing order. Returns the best, the number drawn and the limit."""
+    tau = search.tau
+    best: _Best | None = None
+    drawn, limit = 0, max_iterations
+    while drawn < limit:
+        b = min(BATCH, max_iterations - drawn)
+        a, t, ok = search.draw(rng, b)
+        ok &= _checks(a, t)
+        cand = np.flatnonzero(ok)
+        if cand.size:
+            rot, shift = _kabsch(a[cand], t[cand])
+            moved = np.einsum("hij,hkj->hki", rot, a[cand]) + shift[:, None, :]
+            res = np.linalg.norm(moved - t[cand], axis=2).max(axis=1)
+            keep = res <= tau
+            cand, rot, shift = cand[keep], rot[keep], shift[keep]
+        if cand.size:
+            err, inl = search.score(rot, shift)
+            for k in range(cand.size):
+                number = drawn + int(cand[k]) + 1
+                if number > limit:
+                    break
+                if best is None or err[k] < best.error:
+                    ratio = search.ratio(rot[k], shift[k], int(inl[k]))
+                    best = _Best(float(err[k]), int(inl[k]), ratio, rot[k], shift[k], number)
+                    needed = _needed(ratio, confidence, search.s)
+                    if best.inliers >= MIN_SUPPORT and needed < max_iterations:
+                        limit = min(max_iterations, max(number, math.ceil(needed)))
+        drawn = min(drawn + b, limit)
+        report(drawn, max_iterations + 1, f"RANSAC: {drawn} hypotheses" + (
+            "" if best is None else f", best inlier ratio {best.ratio:.3g}"))
+    return best, drawn, limit
+
+
+# --- refinement -----------------------------------------------------------------------------
+
+
+def _refine(src: FloatArray, t_pts: FloatArray, t_normals: FloatArray | None,
+            start: FloatArray, tau: float, rng: np.random.Generator
+            ) -> tuple[FloatArray, str]:
+    """ICP from ``start``; the refined transform only when it lowers the truncated error of
+    the refinement's metric (``cost``) over the source points used."""
+    d = src.shape[1]
+    pts = src if src.shape[0] <= REFINE_POINTS else \
+        src[np.sort(rng.choice(src.shape[0], REFINE_POINTS, replace=False))]
+    metric = "point_to_point"
+    if d == 3 and pts.shape[0] >= 6 and t_pts.shape[0] >= PLANE_MIN_POINTS:
+        centred = t_pts - t_pts.mean(axis=0)
+        var = np.linalg.eigvalsh(centred.T @ centred / len(t_pts))[::-1]
+        if numerical_rank(np.maximum(var, 0.0), RANK_RTOL) == 3:
+            metric = "point_to_plane"
+    tree = cKDTree(t_pts)
+    workers = -1 if pts.shape[0] >= PARALLEL_FROM else 1
+    normals = t_normals if metric == "point_to_plane" else None
+    if metric == "point_to_plane" and normals is None:
+        normals = feature_normals(t_pts, tree, NORMAL_NEIGHBORS)
+
+    def cost(transform: FloatArray) -> float:
+        """The truncated error of the refinement's own metric: sum over the source points of
+        min(r², τ²), r the distance (or plane distance) to the nearest target point."""
+        moved = pts @ transform[:d, :d].T + transform[:d, d]
+        dist, idx = tree.query(moved, distance_upper_bound=tau * (1 + 1e-9), workers=workers)
+        near = dist <= tau
+        r = dist[near]
+        if normals is not None:
+            k = idx[near]
+            r = np.einsum("ij,ij->i", moved[near] - t_pts[k], normals[k])
+        return float(r @ r) + tau * tau * (pts.shape[0] - r.size)
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            res = icp(pts, t_pts, metric=metric, init=start, max_iterations=REFINE_ITERATIONS,
+                      max_correspondence_distance=tau, target_normals=normals)
+    except DegenerateInputError as err:
+        return start, f"ICP refinement skipped: {str(err).rstrip('.')}"
+    if res.iterations == 0:
+        return start, f"{metric} ICP refinement stopped at once ({res.reason})"
+    if cost(res.transform) <= cost(start):
+        return res.transform, (f"refined by {metric} ICP ({res.iterations} iterations, "
+                               f"{res.reason})")
+    return start, (f"{metric} ICP refinement ({res.reason}) raised the truncated error: the "
+                   "RANSAC transform is kept")
+
