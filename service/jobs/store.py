@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import dataclasses
 import functools
 import json
 import os
@@ -37,6 +38,8 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
+
+import numpy as np
 
 __all__ = ["JobRecord", "JobStore", "ACTIVE", "FINISHED", "write_atomic", "result_path"]
 
@@ -147,11 +150,27 @@ def _record(row: tuple[Any, ...]) -> JobRecord:
     return JobRecord(**d)
 
 
-def write_atomic(path: Path, data: bytes, *, fsync: bool = True) -> None:
-    """Write ``data`` to ``path`` so that readers see the old file or the whole new one."""
+def _array_bytes(inputs: Mapping[str, Any]) -> int:
+    """The bytes of the numpy arrays among the inputs (a lower bound of their pickle)."""
+    total = 0
+    for value in inputs.values():
+        if isinstance(value, np.ndarray):
+            total += value.nbytes
+        elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+            total += sum(getattr(value, f.name).nbytes for f in dataclasses.fields(value)
+                         if isinstance(getattr(value, f.name), np.ndarray))
+    return total
+
+
+def write_atomic(path: Path, data: Any, *, fsync: bool = True) -> None:
+    """Write ``data`` (bytes, or any object, pickled as it is written) to ``path`` so that
+    readers see the old file or the whole new one."""
     tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
     with open(tmp, "wb") as f:
-        f.write(data)
+        if isinstance(data, (bytes, bytearray, memoryview)):
+            f.write(data)
+        else:  # protocol 5 writes a large array's buffer straight to the file
+            pickle.dump(data, f, protocol=5)
         if fsync:
             f.flush()
             os.fsync(f.fileno())
@@ -304,12 +323,17 @@ class JobStore:
 
         ``idempotency_key`` is unique per ``owner``: two keys' clients may use the same."""
         job_id = str(uuid.uuid4())
-        blob = pickle.dumps(dict(inputs), protocol=5)
         inputs_file = None
-        if len(blob) > self.inline_input_bytes:
-            inputs_file = f"inputs/{job_id}.pkl"
-            write_atomic(self.data_dir / inputs_file, blob, fsync=self.fsync)
-            blob = None
+        blob: bytes | None = None
+        if _array_bytes(inputs) > self.inline_input_bytes:  # pickled straight into the file:
+            inputs_file = f"inputs/{job_id}.pkl"  # no copy of large arrays as one bytes blob
+            write_atomic(self.data_dir / inputs_file, dict(inputs), fsync=self.fsync)
+        else:
+            blob = pickle.dumps(dict(inputs), protocol=5)
+            if len(blob) > self.inline_input_bytes:
+                inputs_file = f"inputs/{job_id}.pkl"
+                write_atomic(self.data_dir / inputs_file, blob, fsync=self.fsync)
+                blob = None
         now = time.time()
         try:
             with self._lock:
