@@ -27,26 +27,14 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from _common import angle_deg as _angle  # bench/ is on the path (run by registration.py)
+from _common import blob as _blob
 from algorithms.registration import cpd
 
 __all__ = ["case_cpd"]
 
 ANGLE = 30.0
 SCALE = 1.2
-
-
-def _blob(n: int, seed: int) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    u = rng.standard_normal((n, 3))
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    x, y, z = u.T
-    r = 1.0 + 0.3 * x + 0.15 * y * z + 0.2 * x * y + 0.1 * z ** 3 + 0.12 * y
-    return u * r[:, None] * [1.3, 1.0, 0.8]
-
-
-def _angle(r_est: np.ndarray, r_true: np.ndarray) -> float:
-    c = (np.trace(r_est @ r_true.T) - 1.0) / 2.0
-    return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
 def _figure(rot: np.ndarray, scale: float, truth: np.ndarray) -> str:

@@ -30,25 +30,12 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from algorithms.registration import ransac  # noqa: E402
+from _common import angle_deg as _angle_deg  # noqa: E402
+from _common import blob as _blob  # noqa: E402
 from _common import timed, timed_pair  # noqa: E402
 
 VOXEL = 0.05
 NOISE = 0.005
-
-
-def _blob(n: int, seed: int) -> np.ndarray:
-    """``n`` points on an asymmetric lumpy closed surface about 2 across (as registration.py)."""
-    rng = np.random.default_rng(seed)
-    u = rng.standard_normal((n, 3))
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    x, y, z = u.T
-    r = 1.0 + 0.3 * x + 0.15 * y * z + 0.2 * x * y + 0.1 * z ** 3 + 0.12 * y
-    return u * r[:, None] * [1.3, 1.0, 0.8]
-
-
-def _angle_deg(r_est: np.ndarray, r_true: np.ndarray) -> float:
-    c = (np.trace(r_est @ r_true.T) - 1.0) / 2.0
-    return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
 def _scan_pair(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -31,25 +31,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from algorithms.registration import icp  # noqa: E402
-from _common import print_ratio_table, timed, timed_pair  # noqa: E402
+from _common import angle_deg, blob, print_ratio_table, timed, timed_pair  # noqa: E402
 
 ITERATIONS = 30
 ANGLE = 10.0
-
-
-def blob(n: int, seed: int) -> np.ndarray:
-    """``n`` points on an asymmetric lumpy closed surface about 2 across."""
-    rng = np.random.default_rng(seed)
-    u = rng.standard_normal((n, 3))
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    x, y, z = u.T
-    r = 1.0 + 0.3 * x + 0.15 * y * z + 0.2 * x * y + 0.1 * z ** 3 + 0.12 * y
-    return u * r[:, None] * [1.3, 1.0, 0.8]
-
-
-def angle_deg(r_est: np.ndarray, r_true: np.ndarray) -> float:
-    c = (np.trace(r_est @ r_true.T) - 1.0) / 2.0
-    return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
 def plain_icp(src: np.ndarray, dst: np.ndarray, iterations: int, max_dist: float
