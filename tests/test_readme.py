@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 README = Path(__file__).resolve().parents[1] / "README.md"
@@ -41,7 +42,7 @@ def _run_sh(script: str, url: str, cwd: Path) -> str:
 @pytest.mark.e2e
 def test_curl_tour(server, tmp_path: Path) -> None:
     curl = [b for b in blocks("sh") if "curl" in b]
-    assert len(curl) == 3
+    assert len(curl) == 4  # the fourth uploads a file: test_geometry_tour
     acceptance = json.loads(_run_sh(curl[0], server.url, tmp_path))
     assert len(acceptance["transform"]) == 4 and acceptance["rmse"] < 1e-12
     # the async block, but for the lines that need a job id from the first one
@@ -60,7 +61,7 @@ def test_curl_tour(server, tmp_path: Path) -> None:
 
 @pytest.mark.e2e
 def test_python_tour(server, tmp_path: Path) -> None:
-    (code,) = blocks("python")
+    code = blocks("python")[0]
     out = subprocess.run([sys.executable, "-c", _localise(code, server.url)], cwd=tmp_path,
                          capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
@@ -75,6 +76,34 @@ def test_cli_tour(server, tmp_path: Path) -> None:
     out = _run_sh(cli, server.url, tmp_path)
     assert "alignment.rigid" in out and "assignment.nearest" in out
     assert '"rotation"' in out and '"rmse"' in out
+
+
+@pytest.mark.e2e
+def test_geometry_tour(server, tmp_path: Path) -> None:
+    """The file upload, glTF and CLI examples, on a small disk saved as scan.ply."""
+    import trimesh
+
+    x, y = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 5))
+    vertices = np.column_stack([x.ravel(), y.ravel(), 0.1 * x.ravel() * y.ravel()])
+    faces = [[i * 5 + j, i * 5 + j + 1, i * 5 + j + 6] for i in range(4) for j in range(4)]
+    faces += [[i * 5 + j, i * 5 + j + 6, i * 5 + j + 5] for i in range(4) for j in range(4)]
+    trimesh.Trimesh(vertices, faces, process=False).export(tmp_path / "scan.ply")
+
+    upload = [b for b in blocks("sh") if "curl" in b][3]
+    results = json.loads(_run_sh(upload, server.url, tmp_path))
+    assert np.asarray(results["uv"]).shape == (25, 2) and results["flipped_faces"] == 0
+
+    code = blocks("python")[1]
+    out = subprocess.run([sys.executable, "-c", _localise(code, server.url)], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "(25, 2)" in out.stdout
+    assert (tmp_path / "unwrapped.glb").read_bytes()[:4] == b"glTF"
+
+    (tmp_path / "unwrapped.glb").unlink()
+    cli = next(b for b in blocks("sh") if "--output unwrapped.glb" in b)
+    _run_sh(cli, server.url, tmp_path)
+    assert (tmp_path / "unwrapped.glb").read_bytes()[:4] == b"glTF"
 
 
 def test_every_process_is_in_the_methods_table() -> None:
