@@ -69,6 +69,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="a fifth of the sizes")
+    parser.add_argument("--big", type=int, default=0, metavar="N",
+                        help="also embed N points by t-SNE once (time, peak memory)")
     args = parser.parse_args()
     r = args.repeats
     n = 1000 if args.quick else 5000
@@ -98,7 +100,12 @@ def main() -> None:
               lambda: pca(digits).embedding,
               lambda: PCA(2).fit_transform(digits), r),
     ]
+    from _embedding_tsne import big_run, case_tsne  # noqa: PLC0415
+
+    rows += case_tsne(r, args.quick)
     print_ratio_table(rows, r)
+    if args.big:
+        big_run(args.big)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """Embedding (n×D data → n×k): linear projections (``pca``, ``random_projection``, ``lpp``),
-distance-keeping maps (``mds``, ``isomap``) and graph spectral maps (``laplacian_eigenmaps``,
-``lle``); every result reports its trustworthiness."""
+distance-keeping maps (``mds``, ``isomap``), graph spectral maps (``laplacian_eigenmaps``,
+``lle``) and stochastic neighbour embeddings (``tsne``, ``sne``); every result reports its
+trustworthiness."""
 
 from algorithms.embedding._quality import trustworthiness
 from algorithms.embedding.isomap import IsomapResult, isomap
@@ -10,3 +11,5 @@ from algorithms.embedding.mds import EmbeddingMDSResult, mds
 from algorithms.embedding.pca import PCAResult, pca
 from algorithms.embedding.lpp import LPPResult, lpp
 from algorithms.embedding.random_projection import RandomProjectionResult, random_projection
+from algorithms.embedding.sne import SNEResult, sne
+from algorithms.embedding.tsne import TSNEResult, tsne

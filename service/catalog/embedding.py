@@ -1,6 +1,6 @@
-"""Catalog entries of the embedding family, deterministic methods (n×D points → n×k): PCA,
-classical/metric MDS, random projection, Isomap, Laplacian eigenmaps, LPP and LLE. (t-SNE,
-SNE and SOM: :mod:`service.catalog.embedding_stochastic`.)"""
+"""Catalog entries of the embedding family (n×D points → n×k): PCA, classical/metric MDS,
+random projection, Isomap, Laplacian eigenmaps, LPP and LLE; then the iterative methods that
+report progress and can be cancelled: SOM, t-SNE and SNE."""
 
 from __future__ import annotations
 
@@ -27,6 +27,8 @@ from algorithms.embedding import (
 )
 from algorithms.embedding.isomap import MAX_ISOMAP_POINTS
 from algorithms.embedding.som import SOMResult, som
+from algorithms.embedding.sne import MAX_SNE_POINTS, SNEResult, sne
+from algorithms.embedding.tsne import MAX_EXACT_POINTS, TSNEResult, tsne
 from algorithms.layout._inputs import MAX_DENSE_POINTS
 from service.catalog.base import Params
 from service.catalog.inputs import Points
@@ -361,4 +363,114 @@ registry.add(Process(
     "maps. Biological Cybernetics 43, 59–69.",
     long=True,
     keywords=("som", "kohonen", "self-organizing map", "vector quantization", "embedding"),
+))
+
+
+# -- embedding.tsne, embedding.sne -----------------------------------------------------------
+_PERPLEXITY = ("The effective number of neighbours of each point's Gaussian (its entropy is "
+               "log perplexity, by binary search); below the number of points.")
+
+
+class _StochasticParams(_EmbeddingParams):
+    perplexity: float = Field(30.0, gt=0, description=_PERPLEXITY, examples=[3.0])
+    init: Literal["pca", "random"] = Field(
+        "pca", description="Start from the PCA scores (first column's standard deviation "
+        "1e-4, as openTSNE and scikit-learn) or from Gaussian draws of that size (seed).")
+    learning_rate: float | None = Field(
+        None, gt=0, description="The step; by default (null) max(n / 4α, 50) with α the "
+        "exaggeration in force (openTSNE's auto, n / α, in scikit-learn's gradient units).")
+    max_iterations: int = Field(750, ge=1, le=100_000, description="Gradient steps in all, "
+                                "the early exaggeration included.", examples=[300])
+    exaggeration_iterations: int = Field(250, ge=0, le=100_000, description="Steps with P "
+                                         "multiplied by early_exaggeration.", examples=[100])
+    min_grad_norm: float = Field(1e-7, ge=0, description="After the exaggeration, stop once "
+                                 "the gradient's norm is below this.")
+    seed: int = Field(0, ge=0, description="Seeds the random start; the same seed gives the "
+                      "same embedding.")
+
+    def _stochastic_checks(self) -> int:
+        n, _ = _count(self.points)
+        if n < 2:
+            raise InvalidInputError(f"Expected `points` to hold at least 2 points, got {n}.",
+                                    field="points")
+        if self.perplexity >= n:
+            raise InvalidInputError(f"Expected `perplexity` to be below the number of "
+                                    f"`points` ({n}), got {self.perplexity:g}.",
+                                    field="perplexity")
+        return n
+
+
+class TSNEParams(_StochasticParams):
+    method: Literal["auto", "exact", "fft"] = Field(
+        "auto", description="exact: all pairs each step, affinities over all pairs (at most "
+        f"{MAX_EXACT_POINTS:,} points); fft: affinities over the 3·perplexity nearest "
+        "neighbours, repulsion by FFT-accelerated interpolation (FIt-SNE; n_components ≤ 2); "
+        "auto: exact below 500 points or for n_components > 2, else fft.")
+    early_exaggeration: float = Field(12.0, ge=1, description="The factor on P during the "
+                                      "first exaggeration_iterations steps.")
+
+    @model_validator(mode="after")
+    def _fits(self) -> TSNEParams:
+        n = self._stochastic_checks()
+        exact = self.method == "exact" or (self.method == "auto" and
+                                           (n < 500 or self.n_components > 2))
+        if exact and n > MAX_EXACT_POINTS:
+            field = "method" if self.method == "exact" else "n_components"
+            raise InvalidInputError(f"Expected at most {MAX_EXACT_POINTS:,} `points` for the "
+                                    f"exact gradient (method = 'exact' or n_components > 2), "
+                                    f"got {n:,}.", field=field)
+        if self.method == "fft" and self.n_components > 2:
+            raise InvalidInputError(f"Expected `n_components` <= 2 for method = 'fft', got "
+                                    f"{self.n_components}.", field="n_components")
+        return self
+
+
+registry.add(Process(
+    id="embedding.tsne",
+    title="t-SNE (t-distributed stochastic neighbour embedding)",
+    description="Perplexity-calibrated Gaussian affinities (binary search per point), "
+    "Cauchy affinities in the embedding, KL(P‖Q) minimised by gradient descent with "
+    "momentum, gains and early exaggeration; exact all-pairs gradient for small inputs, "
+    "FFT-interpolated repulsion (FIt-SNE) for up to 100,000s of points. Reports KL, "
+    "trustworthiness and iterations. Progress every iteration, cancellable.",
+    function=tsne,
+    params=TSNEParams,
+    result=TSNEResult,
+    reference="van der Maaten, L., Hinton, G. (2008). Visualizing data using t-SNE. JMLR 9, "
+    "2579–2605; Linderman, G. C. et al. (2019). Fast interpolation-based t-SNE for improved "
+    "visualization of single-cell RNA-seq data. Nature Methods 16, 243–245.",
+    long=True,
+    keywords=("tsne", "t-sne", "stochastic neighbor embedding", "fit-sne", "visualization",
+              "perplexity"),
+))
+
+
+class SNEParams(_StochasticParams):
+    early_exaggeration: float = Field(4.0, ge=1, description="The factor on P during the "
+                                      "first exaggeration_iterations steps.")
+
+    @model_validator(mode="after")
+    def _fits(self) -> SNEParams:
+        n = self._stochastic_checks()
+        if n > MAX_SNE_POINTS:
+            raise InvalidInputError(f"Expected `points` to hold at most {MAX_SNE_POINTS:,} "
+                                    f"points for SNE (an exact O(n²) gradient), got {n:,}; "
+                                    f"use embedding.tsne.", field="points")
+        return self
+
+
+registry.add(Process(
+    id="embedding.sne",
+    title="Symmetric SNE (stochastic neighbour embedding)",
+    description="t-SNE's input affinities with a Gaussian kernel in the embedding too "
+    "(the light tails crowd clusters together: t-SNE's motivation); exact all-pairs "
+    f"gradient, at most {MAX_SNE_POINTS:,} points. Reports KL, trustworthiness and "
+    "iterations. Progress every iteration, cancellable.",
+    function=sne,
+    params=SNEParams,
+    result=SNEResult,
+    reference="Hinton, G., Roweis, S. (2002). Stochastic neighbor embedding. NIPS 15; van der "
+    "Maaten, L., Hinton, G. (2008). Visualizing data using t-SNE. JMLR 9 (symmetric SNE).",
+    long=True,
+    keywords=("sne", "stochastic neighbor embedding", "symmetric sne", "gaussian"),
 ))

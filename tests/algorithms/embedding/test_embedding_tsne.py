@@ -1,0 +1,222 @@
+"""t-SNE: perplexity calibration (entropy = log perplexity), the exact gradient against finite
+differences, the FFT repulsion against the all-pairs sums, agreement with scikit-learn's
+TSNE (exact and Barnes–Hut) in trustworthiness and KL, determinism, progress and
+cancellation, and every error branch."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from sklearn.datasets import load_digits, make_blobs
+from sklearn.manifold import TSNE, trustworthiness
+from threadpoolctl import threadpool_limits
+
+from algorithms.core.errors import Cancelled, InvalidInputError
+from algorithms.embedding import tsne
+from algorithms.embedding._fft_gradients import repulsion_fft
+from algorithms.embedding.tsne import (
+    _calibrate,
+    _exact_kl_gradient,
+    _row_entropy,
+    _SparseAttraction,
+    affinities,
+)
+
+DIGITS = load_digits().data
+
+
+def _kl(p: np.ndarray, y: np.ndarray) -> float:
+    """KL(P‖Q) over all pairs, by hand: the same formula for both embeddings compared."""
+    d2 = ((y[:, None, :] - y[None, :, :]) ** 2).sum(-1)
+    w = 1.0 / (1.0 + d2)
+    np.fill_diagonal(w, 0.0)
+    q = w / w.sum()
+    m = p > 0
+    return float((p[m] * np.log(p[m] / q[m])).sum())
+
+
+def test_two_points_by_hand() -> None:
+    # one neighbour each: p_{j|i} = 1, so p_12 = p_21 = 1/2 whatever the perplexity
+    p = affinities(np.array([[0.0, 0.0], [3.0, 4.0]]), 0.5, dense=True)
+    np.testing.assert_allclose(p, [[0.0, 0.5], [0.5, 0.0]])
+    # KL = 0 at any embedding (q_12 = q_21 = 1/2 too) and the gradient vanishes
+    kl, grad = _exact_kl_gradient(p, np.array([[0.0, 0.0], [1.0, 2.0]]))
+    assert kl == pytest.approx(0.0, abs=1e-15)
+    np.testing.assert_allclose(grad, 0.0, atol=1e-15)
+
+
+@pytest.mark.parametrize("perplexity", [2.0, 5.0, 30.0])
+def test_calibration_reaches_log_perplexity(perplexity: float) -> None:
+    x = DIGITS[:400]
+    d2 = ((x[:, None, :] - x[None, :, :]) ** 2).sum(-1)
+    d2 = d2[~np.eye(400, dtype=bool)].reshape(400, 399)
+    p, beta = _calibrate(d2, perplexity)
+    np.testing.assert_allclose(p.sum(axis=1), 1.0, atol=1e-12)
+    np.testing.assert_allclose(_row_entropy(p), np.log(perplexity), atol=1e-5)
+    # p_{j|i} ∝ exp(−β_i d²): the ratio of any two entries is the Gaussian's
+    i, a, b = 7, 3, 11
+    assert p[i, a] / p[i, b] == pytest.approx(np.exp(-beta[i] * (d2[i, a] - d2[i, b])))
+
+
+def test_sparse_affinities_are_symmetric_and_on_the_nearest_neighbours() -> None:
+    x = DIGITS[:300]
+    p = affinities(x, 10.0, dense=False)
+    assert abs(p - p.T).max() < 1e-15 and p.sum() == pytest.approx(1.0)
+    assert (p.diagonal() == 0).all()
+    # each row holds at least its 30 nearest neighbours (union with the reverse ones)
+    d2 = ((x[:, None, :] - x[None, :, :]) ** 2).sum(-1)
+    np.fill_diagonal(d2, np.inf)
+    near = np.argsort(d2, axis=1)[:, :29]
+    dense = p.toarray()
+    assert (np.take_along_axis(dense, near, axis=1) > 0).all()
+    assert p.nnz <= 2 * 30 * 300
+
+
+@pytest.mark.parametrize("exaggeration", [1.0, 12.0])
+def test_exact_gradient_matches_finite_differences(exaggeration: float) -> None:
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(25, 6))
+    p = affinities(x, 5.0, dense=True)
+    y = rng.normal(size=(25, 2))
+    _, grad = _exact_kl_gradient(p, y, exaggeration)
+
+    def cost(yy: np.ndarray) -> float:
+        # −α Σ p log w + log Z: KL(P‖Q) up to a constant when α = 1; its gradient is
+        # 4 Σ_j (α p_ij − q_ij) w_ij (y_i − y_j)
+        d2 = ((yy[:, None] - yy[None]) ** 2).sum(-1)
+        w = 1.0 / (1.0 + d2)
+        np.fill_diagonal(w, 0.0)
+        return exaggeration * float((p * np.log1p(d2)).sum()) + np.log(w.sum())
+
+    h = 1e-6
+    fd = np.zeros_like(y)
+    for i in range(25):
+        for k in range(2):
+            e = np.zeros_like(y)
+            e[i, k] = h
+            fd[i, k] = (cost(y + e) - cost(y - e)) / (2 * h)
+    np.testing.assert_allclose(grad, fd, rtol=1e-6, atol=1e-9)
+    assert _exact_kl_gradient(p, y)[0] == pytest.approx(_kl(p, y), rel=1e-12)
+
+
+@pytest.mark.parametrize("d, scale, tol", [(1, 1.0, 1e-3), (2, 1e-3, 1e-5), (2, 1.0, 1e-3),
+                                           (2, 10.0, 3e-2)])
+def test_fft_repulsion_matches_all_pairs(d: int, scale: float, tol: float) -> None:
+    # two clumps; at scale 10 the points are sparse (a few units apart), the interpolation's
+    # worst case: its error grows with the kernel's variation across a box of side 1
+    rng = np.random.default_rng(d)
+    y = np.r_[rng.normal(size=(300, d)), rng.normal(size=(300, d)) + 4.0] * scale
+    diff = y[:, None, :] - y[None, :, :]
+    w = 1.0 / (1.0 + (diff ** 2).sum(-1))
+    np.fill_diagonal(w, 0.0)
+    rep_exact = ((w ** 2)[:, :, None] * diff).sum(1)
+    rep, z = repulsion_fft(y)
+    assert z == pytest.approx(w.sum(), rel=tol / 10)
+    err = np.linalg.norm(rep - rep_exact) / np.linalg.norm(rep_exact)
+    assert err < tol
+
+
+def test_sparse_attraction_matches_dense() -> None:
+    x = DIGITS[:200]
+    p = affinities(x, 10.0, dense=False)
+    y = np.random.default_rng(1).normal(size=(200, 2))
+    att, plogw = _SparseAttraction(p)(y, True)
+    pd = p.toarray()
+    diff = y[:, None, :] - y[None, :, :]
+    w = 1.0 / (1.0 + (diff ** 2).sum(-1))
+    np.testing.assert_allclose(att, ((pd * w)[:, :, None] * diff).sum(1), atol=1e-14)
+    assert plogw == pytest.approx(float((pd[pd > 0] * np.log(w[pd > 0])).sum()))
+
+
+def test_exact_agrees_with_sklearn_exact() -> None:
+    x = DIGITS[:150]
+    ours = tsne(x, method="exact", perplexity=20)
+    with threadpool_limits(1):
+        peer = TSNE(method="exact", perplexity=20, init="pca", random_state=0).fit(x)
+    p = affinities(x, 20.0, dense=True)          # the same P as scikit-learn's exact
+    t_peer = trustworthiness(x, peer.embedding_, n_neighbors=5)
+    assert ours.method == "exact" and ours.iterations <= 1000
+    assert ours.trustworthiness >= t_peer - 0.005
+    # scikit-learn's function, up to ties of equal distances (digits are integers)
+    assert ours.trustworthiness == pytest.approx(trustworthiness(x, ours.embedding), abs=1e-4)
+    assert ours.kl_divergence == pytest.approx(_kl(p, ours.embedding), rel=1e-9)
+    assert ours.kl_divergence <= 1.03 * _kl(p, peer.embedding_)
+    assert ours.kl_divergence <= 1.03 * peer.kl_divergence_
+
+
+def test_fft_agrees_with_sklearn_barnes_hut() -> None:
+    x, _ = make_blobs(400, n_features=20, centers=6, cluster_std=3.0, random_state=1)
+    ours = tsne(x, method="fft", max_iterations=500)
+    with threadpool_limits(1):      # scikit-learn's OpenMP threads spin on a busy machine
+        peer = TSNE(method="barnes_hut", init="pca", max_iter=500, random_state=0).fit(x)
+    p = affinities(x, 30.0, dense=False).toarray()   # the kNN P both optimise
+    t_peer = trustworthiness(x, peer.embedding_, n_neighbors=5)
+    assert ours.method == "fft"
+    assert ours.trustworthiness >= t_peer - 0.005
+    kl_ours = _kl(p, ours.embedding)
+    assert ours.kl_divergence == pytest.approx(kl_ours, rel=0.01)   # interpolated Z
+    assert kl_ours <= 1.03 * _kl(p, peer.embedding_)
+
+
+def test_same_seed_same_embedding_signs_fixed_and_progress() -> None:
+    x, _ = make_blobs(120, n_features=5, centers=3, random_state=2)
+    seen: list[tuple] = []
+    a = tsne(x, init="random", seed=4, max_iterations=120, exaggeration_iterations=60,
+             progress=lambda *m: seen.append(m))
+    b = tsne(x, init="random", seed=4, max_iterations=120, exaggeration_iterations=60)
+    c = tsne(x, init="random", seed=5, max_iterations=120, exaggeration_iterations=60)
+    assert np.array_equal(a.embedding, b.embedding)
+    assert not np.array_equal(a.embedding, c.embedding)
+    assert seen[0][0] == 0 and seen[-1][:2] == (120, 120) and len(seen) == 121
+    assert "KL" in seen[50][2]
+    big = np.abs(a.embedding).argmax(axis=0)
+    assert (a.embedding[big, [0, 1]] > 0).all()
+    np.testing.assert_allclose(a.embedding.mean(axis=0), 0.0, atol=1e-9)
+    f1 = tsne(x, method="fft", max_iterations=60, exaggeration_iterations=30)
+    f2 = tsne(x, method="fft", max_iterations=60, exaggeration_iterations=30)
+    assert np.array_equal(f1.embedding, f2.embedding)
+
+
+def test_cancel_and_one_dimension() -> None:
+    x, _ = make_blobs(600, n_features=4, centers=3, random_state=3)
+
+    def stop(done, total, message=""):  # noqa: ANN001, ANN202
+        if done >= 5:
+            raise Cancelled("stop")
+
+    with pytest.raises(Cancelled):
+        tsne(x, progress=stop)
+    one = tsne(x, n_components=1, max_iterations=300, exaggeration_iterations=100)
+    assert one.method == "fft" and one.embedding.shape == (600, 1)
+    assert one.trustworthiness > 0.85
+    three = tsne(x[:100], n_components=3, max_iterations=200)
+    assert three.method == "exact" and three.embedding.shape == (100, 3)
+
+
+@pytest.mark.parametrize("kwargs, field, match", [
+    ({"perplexity": 40}, "perplexity", "below the number of `points` \\(40\\)"),
+    ({"perplexity": 0}, "perplexity", "perplexity"),
+    ({"method": "barnes"}, "method", "'exact'"),
+    ({"method": "fft", "n_components": 3}, "n_components", "<= 2"),
+    ({"init": "spectral"}, "init", "'pca'"),
+    ({"learning_rate": -1.0}, "learning_rate", "learning_rate"),
+    ({"learning_rate": "fast"}, "learning_rate", "'auto'"),
+    ({"max_iterations": 0}, "max_iterations", ">= 1"),
+    ({"early_exaggeration": 0.5}, "early_exaggeration", ">= 1"),
+])
+def test_bad_parameters(kwargs: dict, field: str, match: str) -> None:
+    x = np.random.default_rng(0).normal(size=(40, 3))
+    with pytest.raises(InvalidInputError, match=match) as err:
+        tsne(x, **kwargs)
+    assert err.value.field == field
+
+
+def test_bad_points_and_too_many_for_exact() -> None:
+    with pytest.raises(InvalidInputError, match="row 1") as err:
+        tsne([[0.0, 0.0], [np.nan, 1.0], [2.0, 2.0]], perplexity=1)
+    assert err.value.field == "points"
+    with pytest.raises(InvalidInputError, match="at least 2") as err:
+        tsne([[0.0, 0.0]], perplexity=0.5)
+    with pytest.raises(InvalidInputError, match="5,000") as err:
+        tsne(np.zeros((5001, 2)), method="exact")
+    assert err.value.field == "method"
