@@ -25,9 +25,15 @@ def render() -> str:
 
 
 def main(argv: list[str]) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m service.openapi",
+                                     description="Write the service's OpenAPI document.")
+    parser.add_argument("path", nargs="?", help="where to write it (default: stdout)")
+    args = parser.parse_args(argv)  # --help prints this, rather than writing a file so named
     text = render()
-    if argv:
-        with open(argv[0], "w", encoding="utf-8") as f:
+    if args.path:
+        with open(args.path, "w", encoding="utf-8") as f:
             f.write(text)
     else:
         sys.stdout.write(text)
