@@ -3,6 +3,7 @@ without known correspondences."""
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import warnings
@@ -14,8 +15,9 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from algorithms.alignment import affine, pca, rigid, similarity
+from algorithms.alignment._pairs import rotation_fit, trusted_pairs
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
-from algorithms.core.linalg import RANK_RTOL, det, numerical_rank, procrustes
+from algorithms.core.linalg import RANK_RTOL, det, homogeneous, numerical_rank, procrustes
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import (
@@ -118,8 +120,8 @@ class _Match:
     inliers: int
     moved: FloatArray
 
-    @property
-    def rmse(self) -> float:
+    @functools.cached_property
+    def rmse(self) -> float:  # read several times per iteration: computed once
         if self.dist.size == 0:
             return 0.0  # Open3D's convention; fitness 0 and converged=False tell the story
         return math.sqrt(float(self.dist @ self.dist) / self.dist.size)
@@ -198,7 +200,8 @@ class _Problem:
         if keep < inliers:  # trimmed ICP: the overlap fraction of smallest distances
             part = np.sort(np.argpartition(dist, keep - 1)[:keep])
             src, dist, idx = src[part], dist[part], idx[part]
-        return _Match(src.astype(np.int64), idx.astype(np.int64), dist, inliers, moved)
+        return _Match(src.astype(np.int64, copy=False), idx.astype(np.int64, copy=False), dist,
+                      inliers, moved)
 
     def weights(self, residual: FloatArray) -> FloatArray | None:
         """IRLS weights ``ψ(r)/r`` of the robust kernel for absolute residuals ``residual``."""
@@ -228,11 +231,17 @@ class _Problem:
         # Fit the whole map from the original points to this iteration's partners: the
         # same minimiser as fitting the correction from the moved points and composing
         # (the models are groups), without the composition's accumulated rounding.
-        x, y = self.src[m.src], self.dst[m.tgt]
+        # every source point paired (the usual case once aligned): no copy of the source
+        x = self.src if m.src.size == self.n else self.src[m.src]
+        y = self.dst[m.tgt]
         w = self.weights(m.dist)
         if w is not None and not w.any():
             raise DegenerateInputError("every correspondence has zero weight under the "
                                        f"{self.kernel} kernel", field=None)
+        if self.model == "rigid" and w is None:  # the common case, without rigid()'s
+            pairs = trusted_pairs(x, y)          # checks and rmse: the data are checked
+            rotation = rotation_fit(pairs, reflect_ok=False).rotation
+            return homogeneous(rotation, pairs.y_mean - rotation @ pairs.x_mean)
         if self.model == "rigid":
             return rigid(x, y, weights=w).transform
         if self.model == "similarity":
