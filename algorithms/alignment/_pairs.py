@@ -19,7 +19,13 @@ import numpy as np
 from algorithms.core.errors import DegenerateInputError
 from algorithms.core.linalg import RANK_RTOL, Procrustes, numerical_rank, procrustes
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_points, as_weights, check_min_points, same_shape
+from algorithms.core.validation import (
+    SHAPES,
+    as_points,
+    as_weights,
+    check_min_points,
+    same_shape,
+)
 
 __all__ = [
     "Pairs",
@@ -32,7 +38,6 @@ __all__ = [
 ]
 
 #: How a point set that spans ``r`` dimensions is called in messages.
-SHAPES = {0: "coincident", 1: "collinear", 2: "coplanar"}
 
 
 @dataclass(frozen=True, eq=False)

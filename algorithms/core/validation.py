@@ -28,7 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from algorithms.core.errors import InvalidInputError
+from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.linalg import RANK_RTOL, numerical_rank
 from algorithms.core.types import FloatArray, IntArray
 
 __all__ = [
@@ -443,3 +444,25 @@ def as_indices(idx: Any, n: int, *, name: str, what: str = "indices") -> IntArra
             msg = f"Expected `{name}` to hold {what} below {n}, got {value} at {where}."
         raise InvalidInputError(msg, field=name)
     return np.ascontiguousarray(arr, dtype=np.int64)
+
+
+#: What points spanning 0, 1 or 2 dimensions after centring are.
+SHAPES = {0: "coincident", 1: "collinear", 2: "coplanar"}
+
+
+def check_span(points: FloatArray, name: str, need: int, why: str) -> None:
+    """Raise DegenerateInputError (naming ``name``) unless the points, centred, span at
+    least ``need`` dimensions; ``why`` ends the message (what the method cannot do then).
+
+    The span is the numerical rank of the covariance's eigenvalues with ``RANK_RTOL``;
+    variances are squared extents, so that is a relative 1e-5 on the extents."""
+    if need <= 0:
+        return
+    centred = points - points.mean(axis=0)
+    var = np.linalg.eigvalsh(centred.T @ centred / len(points))[::-1]
+    span = numerical_rank(np.maximum(var, 0.0), RANK_RTOL)
+    if span < need:
+        what = SHAPES.get(span, f"confined to a {span}-dimensional flat")
+        raise DegenerateInputError(
+            f"Expected `{name}` to span at least {need} dimension{'s' if need > 1 else ''} "
+            f"after centring, got {span}: the points are {what} and {why}.", field=name)

@@ -26,9 +26,9 @@ from algorithms.core.validation import (
     as_int,
     as_points,
     check_min_points,
+    check_span,
     same_dim,
 )
-from algorithms.registration.icp import _check_span
 
 __all__ = ["CPDResult", "cpd", "check_sizes", "MODELS", "CHUNK_BYTES", "EXACT_KERNEL_MAX",
            "LOW_RANK_ABOVE"]
@@ -725,10 +725,10 @@ def cpd(
     n_pts = dst.shape[0]
     rank = check_sizes(src, dst, model, low_rank)
     if model == "rigid":
-        _check_span(src, "source", d - 1, "the rotation is undetermined")
-        _check_span(dst, "target", d - 1, "the rotation is undetermined")
+        check_span(src, "source", d - 1, "the rotation is undetermined")
+        check_span(dst, "target", d - 1, "the rotation is undetermined")
     elif model == "affine":
-        _check_span(src, "source", d, "the affine map is undetermined")
+        check_span(src, "source", d, "the affine map is undetermined")
 
     # Centre each set; scale both by the target's RMS radius (rigid, affine, nonrigid
     # without normalize: the maps commute with it) or each by its own (nonrigid normalize).

@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 from algorithms.alignment import affine, pca, rigid, similarity
 from algorithms.alignment._pairs import rotation_fit, trusted_pairs
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
-from algorithms.core.linalg import RANK_RTOL, det, homogeneous, numerical_rank, procrustes
+from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import (
@@ -26,6 +26,7 @@ from algorithms.core.validation import (
     as_int,
     as_points,
     check_min_points,
+    check_span,
     same_dim,
 )
 from algorithms.registration._normals import estimate_normals, given_normals
@@ -52,9 +53,6 @@ PLANARITY_MIN = 1e-8
 ROUNDING_RTOL = 1e-12
 #: How far a given ``init`` may be from its model (orthogonality, last row), relatively.
 INIT_RTOL = 1e-6
-
-_SHAPES = {0: "coincident", 1: "collinear", 2: "coplanar"}
-
 
 @dataclass(frozen=True, eq=False)
 class ICPResult:
@@ -533,18 +531,18 @@ def icp(
     need = d if model == "affine" else d - 1
     span_why = ("the affine map is undetermined" if model == "affine"
                 else "the rotation is undetermined")
-    _check_span(src, "source", need, span_why)
+    check_span(src, "source", need, span_why)
     t_normals = None if target_normals is None else given_normals(
         target_normals, dst.shape[0], name="target_normals")
     s_normals = None
     if metric == "symmetric" and source_normals is not None:
         s_normals = given_normals(source_normals, src.shape[0], name="source_normals")
     if metric != "point_to_point" and t_normals is None:
-        _check_span(dst, "target", 3, f"metric={metric!r} without `target_normals` leaves "
+        check_span(dst, "target", 3, f"metric={metric!r} without `target_normals` leaves "
                     "the motion within their plane undetermined (every estimated normal is "
                     "the plane's); give target_normals or use metric='point_to_point'")
     else:
-        _check_span(dst, "target", need, span_why)
+        check_span(dst, "target", need, span_why)
 
     starts = _initial_transforms(init, src, dst, model)
     prob = _Problem(src, dst, model=model, metric=metric, kernel=kernel, kernel_scale=scale_k,
@@ -576,18 +574,6 @@ def _min_pairs(model: str, metric: str, d: int) -> tuple[int, str]:
     if model == "affine":
         return d + 1, f"d + 1 = {d + 1} for an affine map of {d}-D"
     return d, f"at least one per dimension in {d}-D"
-
-
-def _check_span(pts: FloatArray, name: str, need: int, why: str) -> None:
-    centred = pts - pts.mean(axis=0)
-    var = np.linalg.eigvalsh(centred.T @ centred / len(pts))[::-1]
-    # Variances are squared extents: RANK_RTOL on them is 1e-5 on the extents.
-    span = numerical_rank(np.maximum(var, 0.0), RANK_RTOL)
-    if span < need:
-        what = _SHAPES.get(span, f"confined to a {span}-dimensional flat")
-        raise DegenerateInputError(
-            f"Expected `{name}` to span at least {need} dimensions after centring, got "
-            f"{span}: the points are {what} and {why}.", field=name)
 
 
 def _initial_transforms(init: Any, src: FloatArray, dst: FloatArray, model: str

@@ -18,10 +18,17 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
-from algorithms.core.linalg import RANK_RTOL, numerical_rank, procrustes
+from algorithms.core.linalg import procrustes
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import BoolArray, FloatArray, IntArray
-from algorithms.core.validation import as_bool, as_choice, as_float, as_int, as_points
+from algorithms.core.validation import (
+    as_bool,
+    as_choice,
+    as_float,
+    as_int,
+    as_points,
+    check_span,
+)
 from algorithms.registration.icp import check_init, icp
 
 __all__ = ["MultiwayResult", "multiway", "check_sets", "check_transforms", "MODELS", "METRICS"]
@@ -49,9 +56,6 @@ SPACING_SAMPLE = 2000
 ROUNDING_RTOL = 1e-24
 #: Levenberg-Marquardt gives up when its damping exceeds this (no descent step left).
 MAX_DAMPING = 1e16
-
-_SHAPES = {0: "coincident", 1: "collinear", 2: "coplanar"}
-
 
 @dataclass(frozen=True, eq=False)
 class MultiwayResult:
@@ -157,7 +161,7 @@ def check_sets(sets: Any, *, correspondences: bool, model: str = "rigid",
         why = "its rotation is undetermined" if need == d - 1 and d > 1 else \
             "its scale is undetermined"
         for i, s in enumerate(out):
-            _check_span(s, f"sets[{i}]", need, why)
+            check_span(s, f"sets[{i}]", need, why)
         return out
     if d != 3:
         raise InvalidInputError(
@@ -174,7 +178,7 @@ def check_sets(sets: Any, *, correspondences: bool, model: str = "rigid",
             raise InvalidInputError(
                 f"Expected `sets[{i}]` to hold at least {fewest} points (pairwise {metric} "
                 f"ICP), got {s.shape[0]}.", field=f"sets[{i}]")
-        _check_span(s, f"sets[{i}]", 2, "the rotation of its pairwise ICP is undetermined")
+        check_span(s, f"sets[{i}]", 2, "the rotation of its pairwise ICP is undetermined")
     return out
 
 
@@ -198,19 +202,6 @@ def check_transforms(init: Any, k: int, d: int, model: str) -> FloatArray:
         except InvalidInputError as err:
             raise InvalidInputError(f"init[{i}]: {err.message}", field="init") from None
     return out
-
-
-def _check_span(pts: FloatArray, name: str, need: int, why: str) -> None:
-    if need <= 0:
-        return
-    centred = pts - pts.mean(axis=0)
-    var = np.linalg.eigvalsh(centred.T @ centred / len(pts))[::-1]
-    span = numerical_rank(np.maximum(var, 0.0), RANK_RTOL)
-    if span < need:
-        what = _SHAPES.get(span, f"confined to a {span}-dimensional flat")
-        raise DegenerateInputError(
-            f"Expected `{name}` to span at least {need} dimension{'s' if need > 1 else ''} "
-            f"after centring, got {span}: the points are {what} and {why}.", field=name)
 
 
 # --- the public function ------------------------------------------------------------------

@@ -209,8 +209,10 @@ class RANSACParams(Params):
         "sets (tens of points).", examples=["none"])
     voxel_size: float | None = Field(
         None, gt=0, description="Down-sample both sets on a voxel grid of this step first; "
-        "also the length scale of the default radii (the source's point spacing when "
-        "omitted). Noisy scans need a voxel several times the noise.")
+        "also the length scale of the default radii (one pass). When omitted with features: "
+        "two passes at 1.5 and 3 × the source's point spacing, the best-fitting pose wins "
+        "(without features: no down-sampling, the point spacing as the scale). Noisy scans "
+        "need a voxel several times the noise.")
     feature_radius: float | None = Field(
         None, gt=0, description="FPFH neighbourhood radius; 5 × the length scale when "
         "omitted.")
@@ -223,7 +225,8 @@ class RANSACParams(Params):
                               "has been drawn with this probability (estimated from the best "
                               "inlier ratio); 1 never stops early.")
     mutual_filter: bool = Field(True, description="Keep only mutual nearest neighbours in "
-                                "feature space.")
+                                "feature space (false: each point's nearest feature in the "
+                                "other set, both ways).")
     refine: bool = Field(True, description="Refine the RANSAC transform with ICP "
                          "(point-to-plane in 3-D).")
     seed: int = Field(0, ge=0, description="Seeds the sampling; the same seed gives the same "
@@ -243,8 +246,11 @@ registry.add(Process(
     description="Registers source onto target rigidly without a start: candidate pairs from "
     "mutually matched FPFH features (or, for small sets, the seed's random point triples), "
     "seeded random samples of 3 pairs checked by edge lengths, Kabsch fits scored by "
-    "truncated squared error, confidence-based stopping, then point-to-plane ICP. The same "
-    "seed gives the same result; converged=false with a reason instead of a silent identity.",
+    "truncated squared error, confidence-based stopping. Without voxel_size: two "
+    "down-sampling passes (1.5 and 3 × the point spacing), the best hypotheses re-scored and "
+    "ICP-checked on the point sets, a robust (Tukey) ICP refinement against the full target; "
+    "with voxel_size: Open3D's single pass, then point-to-plane ICP. The same seed gives the "
+    "same result; converged=false with a reason instead of a silent identity.",
     function=ransac,
     params=RANSACParams,
     result=RANSACResult,

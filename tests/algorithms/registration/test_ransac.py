@@ -149,6 +149,28 @@ def test_same_seed_gives_identical_bits():
     assert angle_deg(e.rotation, rot) < 2.0 and angle_deg(a.rotation, rot) < 2.0
 
 
+def test_default_voxel_tries_two_scales_and_is_reproducible():
+    # Without voxel_size: passes at 1.5 and 3 × the point spacing, the pose fitting the
+    # full sets best wins; the same seed still gives the same bits, on any thread count.
+    src, dst, rot, _ = crop_case(7)
+    a = quiet(src, dst, seed=3)
+    with threadpool_limits(limits=1):
+        b = quiet(src, dst, seed=3)
+    np.testing.assert_array_equal(a.transform, b.transform)
+    assert (a.iterations, a.rmse, a.reason) == (b.iterations, b.rmse, b.reason)
+    assert angle_deg(a.rotation, rot) < 2.0
+    assert "of those tried" in a.reason and "× the point spacing" in a.reason
+    assert a.iterations >= 2 * 4096       # two passes, each at least 4 batches
+
+
+def test_default_registers_the_crops_too():
+    errors = []
+    for trial in range(8, 14):
+        src, dst, rot, _ = crop_case(trial)
+        errors.append(angle_deg(quiet(src, dst, seed=trial).rotation, rot))
+    assert max(errors) < 2.0, np.round(errors, 3)
+
+
 def test_refinement_improves_the_sampled_transform():
     src, dst, rot, _ = crop_case(3)
     raw = ransac(src, dst, voxel_size=0.15, refine=False)

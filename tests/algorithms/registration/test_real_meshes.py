@@ -75,3 +75,32 @@ def test_multiway_puts_three_views_of_the_airplane_together() -> None:
     for i in range(1, 3):
         # transforms[i] maps view i into view 0's frame: the inverse of its turn
         assert angle_deg(res.rotations[i], truths[i].inv().as_matrix()) < 1.0
+
+
+import warnings  # noqa: E402
+
+from algorithms.core import ConvergenceWarning  # noqa: E402
+from algorithms.registration import ransac  # noqa: E402
+
+
+@pytest.mark.parametrize("name, seeds", [("airplane.ply", 20), ("ant.ply", 10)])
+def test_ransac_registers_cropped_noisy_real_shapes(name: str, seeds: int) -> None:
+    # Issue #4's acceptance on real shapes: two crops by a plane along a random axis, each
+    # keeping 85 % (70 % shared), the target with 0.5 % noise, turned by a Haar-random
+    # rotation and moved; default parameters; at least 19 of 20 seeds under 2° (seeds 0-19
+    # of the ant also all pass; 10 of them here, to keep the test under 40 s).
+    errors = []
+    for seed in range(seeds):
+        rng = np.random.default_rng(seed)
+        points = surface_points(name, 6000, seed)
+        axis = rng.normal(size=3)
+        proj = points @ (axis / np.linalg.norm(axis))
+        src = points[proj <= np.quantile(proj, 0.85)]
+        dst = points[proj >= np.quantile(proj, 0.15)]
+        rot = Rotation.random(random_state=seed)
+        dst = rot.apply(dst + rng.normal(0, 0.005, dst.shape)) + rng.normal(size=3)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            res = ransac(src, dst, seed=seed)
+        errors.append(angle_deg(res.rotation, rot.as_matrix()))
+    assert sum(e < 2.0 for e in errors) >= seeds - 1, np.round(errors, 2)
