@@ -68,7 +68,7 @@ def get_job(st: State, job_id: str, request: Request) -> JobRecord:
     return job
 
 
-async def read_body(request: Request, limit: int) -> bytes:
+async def read_body(request: Request, limit: int) -> bytearray:
     """The request body, refused with 413 as soon as it passes ``limit`` bytes."""
     declared = request.headers.get("content-length")
     if declared is not None and declared.isdigit() and int(declared) > limit:
@@ -81,7 +81,8 @@ async def read_body(request: Request, limit: int) -> bytes:
             raise ServiceError("payload-too-large", f"The body exceeds the limit of {limit} "
                                "bytes.")
         chunks.append(chunk)
-    return b"".join(chunks)
+    # a bytearray: arrays of an uploaded .npy part are views of it, writable, not copies
+    return bytearray().join(chunks)
 
 
 def parse_prefer(values: list[str]) -> dict[str, str | None]:
