@@ -137,10 +137,7 @@ class LocalGlobalSolver:
         q = quality(self.mesh.vertices, f, uv, self.frames)
         return LocalGlobalResult(uv=uv, mesh=self.mesh, energy=np.array(energies),
                                  iterations=len(energies) - 1, converged=converged,
-                                 flipped_faces=q.flipped_faces,
-                                 degenerate_faces=q.degenerate_faces,
-                                 angle_distortion=q.angle_distortion,
-                                 area_distortion=q.area_distortion)
+                                 **q.fields())
 
 
 def initial_map(disk: Disk, init: str) -> FloatArray:

@@ -22,7 +22,7 @@ and :math:`J` is a similarity iff :math:`R = 0`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -38,6 +38,10 @@ class Quality:
     degenerate_faces: int
     angle_distortion: float
     area_distortion: float
+
+    def fields(self) -> dict[str, int | float]:
+        """The four figures by name, as every parameterization result carries them."""
+        return asdict(self)
 
 
 def face_frames(vertices: FloatArray, faces: IntArray) -> FloatArray:

@@ -97,7 +97,4 @@ def direct_result(mesh: Mesh, uv: FloatArray, pinned: IntArray, energy: float
     """A :class:`ParameterizationResult` with its quality figures computed."""
     q = quality(mesh.vertices, mesh.faces, uv)
     return ParameterizationResult(uv=uv, mesh=mesh, pinned=np.asarray(pinned, dtype=np.int64),
-                                  energy=float(energy), flipped_faces=q.flipped_faces,
-                                  degenerate_faces=q.degenerate_faces,
-                                  angle_distortion=q.angle_distortion,
-                                  area_distortion=q.area_distortion)
+                                  energy=float(energy), **q.fields())

@@ -417,6 +417,4 @@ def abf(mesh: Any, *, max_iterations: int = 20, tolerance: float = 1e-8,
     energy = float(np.sum(system.weight * (alpha - system.beta) ** 2))
     return AbfResult(uv=uv, mesh=m, angles=angles, pinned=pinned, energy=energy,
                      gradient_norm=np.array(norms), iterations=it, converged=converged,
-                     flipped_faces=qual.flipped_faces, degenerate_faces=qual.degenerate_faces,
-                     angle_distortion=qual.angle_distortion,
-                     area_distortion=qual.area_distortion)
+                     **qual.fields())

@@ -473,10 +473,7 @@ class BijectiveSolver:
                                symmetric_dirichlet=sd, iterations=len(energies) - 1,
                                converged=converged,
                                boundary_crossings=boundary_crossings(uv, self.loop),
-                               flipped_faces=q.flipped_faces,
-                               degenerate_faces=q.degenerate_faces,
-                               angle_distortion=q.angle_distortion,
-                               area_distortion=q.area_distortion)
+                               **q.fields())
 
 
 def tutte_start(disk: Disk) -> FloatArray:

@@ -314,6 +314,4 @@ def stretch_minimizing(mesh: Any, *, boundary: str = "circle", power: float = 1.
     return StretchResult(uv=uv, mesh=m, pinned=disk.loop.copy(), stretch=np.array(history),
                          l2_stretch=float(l2), max_stretch=float(linf),
                          iterations=len(history) - 1, converged=converged,
-                         flipped_faces=q.flipped_faces, degenerate_faces=q.degenerate_faces,
-                         angle_distortion=q.angle_distortion,
-                         area_distortion=q.area_distortion)
+                         **q.fields())
