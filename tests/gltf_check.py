@@ -7,6 +7,7 @@ skip.
 from __future__ import annotations
 
 import json
+import struct
 import shutil
 import subprocess
 import sys
@@ -14,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-__all__ = ["validate", "VALIDATOR_DIR", "problems"]
+__all__ = ["validate", "VALIDATOR_DIR", "problems", "glb_with"]
 
 VALIDATOR_DIR = Path(__file__).resolve().parents[1] / "tools" / "gltf-validator"
 
@@ -58,3 +59,15 @@ def problems(report: dict, allowed: set[tuple[str, str]] = frozenset()) -> list[
     """The errors, warnings and infos of a report, but the allowed (code, pointer) pairs."""
     return [m for m in report["issues"]["messages"] if m["severity"] <= 2
             and (m["code"], m.get("pointer", "")) not in allowed]
+
+
+def glb_with(glb: bytes, edit) -> bytes:  # noqa: ANN001
+    """``glb`` with its JSON changed by ``edit(doc)``, repacked with the same BIN chunk."""
+    json_len = struct.unpack_from("<I", glb, 12)[0]
+    doc = json.loads(glb[20:20 + json_len])
+    edit(doc)
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    rest = glb[20 + json_len:]
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text + rest
+    return struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body

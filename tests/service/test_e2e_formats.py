@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 import trimesh
-from gltf_check import problems, validate
+from gltf_check import glb_with, problems, validate
 from scipy.spatial.transform import Rotation
 
 from service.gltf import read_glb
@@ -160,15 +160,8 @@ def test_truncated_multipart_is_400(http) -> None:  # noqa: ANN001
 
 
 def test_glb_declaring_a_huge_buffer_is_refused(http) -> None:  # noqa: ANN001
-    glb = bytearray(exported(disk(), "glb"))
-    length = int.from_bytes(glb[12:16], "little")
-    doc = json.loads(glb[20:20 + length])
-    doc["buffers"][0]["byteLength"] = 2 ** 40
-    text = json.dumps(doc).encode()
-    text += b" " * (-len(text) % 4)
-    rest = glb[20 + length:]
-    out = b"glTF" + (2).to_bytes(4, "little") + (12 + 8 + len(text) + len(rest)).to_bytes(
-        4, "little") + len(text).to_bytes(4, "little") + b"JSON" + text + rest
+    out = glb_with(exported(disk(), "glb"),
+                   lambda doc: doc["buffers"][0].update(byteLength=2 ** 40))
     r = post_multipart(http, "parameterization.tutte", {"mesh": ("big.glb", out, "")})
     assert r.status_code == 422, r.text
     assert r.json()["errors"][0]["input"] == "mesh"

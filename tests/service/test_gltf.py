@@ -19,7 +19,7 @@ import trimesh
 from scipy.spatial.distance import pdist
 
 from algorithms.core.errors import InvalidInputError
-from gltf_check import validate
+from gltf_check import glb_with, validate
 from service.gltf import (
     check_glb,
     label_colors,
@@ -62,18 +62,6 @@ def many_vertex_mesh(n: int) -> tuple[np.ndarray, np.ndarray]:
     vertices = np.random.default_rng(n).normal(size=(n, 3))
     faces = np.array([[0, 1, 2], [3, 4, 5], [n - 3, n - 2, n - 1]])
     return vertices, faces
-
-
-def glb_with(glb: bytes, edit) -> bytes:
-    """``glb`` with its JSON changed by ``edit(doc)``, repacked with the same BIN chunk."""
-    json_len = struct.unpack_from("<I", glb, 12)[0]
-    doc = json.loads(glb[20:20 + json_len])
-    edit(doc)
-    text = json.dumps(doc).encode()
-    text += b" " * (-len(text) % 4)
-    rest = glb[20 + json_len:]
-    body = struct.pack("<II", len(text), 0x4E4F534A) + text + rest
-    return struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body
 
 
 def kinds() -> dict[str, bytes]:
