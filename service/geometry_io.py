@@ -32,7 +32,6 @@ Outputs
 
 from __future__ import annotations
 
-import base64
 import io
 import re
 from dataclasses import dataclass
@@ -46,7 +45,7 @@ from algorithms.core.errors import InvalidInputError
 from service.errors import ServiceError
 
 __all__ = ["Upload", "parse_multipart", "decode_upload", "place_upload", "resolve_refs",
-           "REF_PATTERN", "encode_binary_arrays", "npy_bytes", "MEDIA_GLB", "MEDIA_NPY",
+           "REF_PATTERN", "npy_bytes", "MEDIA_GLB", "MEDIA_NPY",
            "MEDIA_JSON", "negotiate"]
 
 MEDIA_JSON = "application/json"
@@ -365,35 +364,6 @@ def _parse_ref(href: Any, name: str, own_origin: str) -> tuple[str, str]:
 
 
 # -- outputs -------------------------------------------------------------------------------
-
-def _binary(a: np.ndarray) -> dict[str, Any]:
-    a = np.ascontiguousarray(a)
-    if a.dtype.byteorder == ">" or a.dtype.kind not in "iuf":
-        a = a.astype(a.dtype.newbyteorder("<") if a.dtype.kind in "iuf" else np.float64)
-    return {"dtype": a.dtype.str, "shape": list(a.shape),
-            "data": base64.b64encode(a.tobytes()).decode("ascii")}
-
-
-def encode_binary_arrays(value: Any) -> Any:
-    """``value`` with its numeric arrays (nested in dicts, lists and result dataclasses too)
-    as typed binary arrays: bit-exact, fast to decode, and an empty array keeps its shape."""
-    import dataclasses
-
-    if isinstance(value, np.ndarray):
-        if value.dtype.kind in "iuf" and 1 <= value.ndim <= 4:
-            return _binary(value)
-        if value.dtype.kind == "b" and 1 <= value.ndim <= 4:
-            return value.tolist()
-        return value
-    if isinstance(value, dict):
-        return {k: encode_binary_arrays(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [encode_binary_arrays(v) for v in value]
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {f.name: encode_binary_arrays(getattr(value, f.name))
-                for f in dataclasses.fields(value)}
-    return value
-
 
 def npy_bytes(a: np.ndarray) -> bytes:
     buf = io.BytesIO()

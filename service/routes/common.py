@@ -11,12 +11,12 @@ from starlette.responses import Response
 
 from service.auth import KeyRing, owner_of
 from service.catalog import Process, lookup
+from service.binary import encode_arrays
 from service.errors import ServiceError, problem_response
 from service.geometry_io import (
     MEDIA_GLB,
     MEDIA_JSON,
     MEDIA_NPY,
-    encode_binary_arrays,
     negotiate,
     npy_bytes,
     result_glb,
@@ -134,19 +134,18 @@ def results_response(st: State, job: JobRecord, outputs: dict[str, Any], wanted:
                                f"geometry to send as {MEDIA_GLB}; ask for {MEDIA_JSON}.")
         return Response(glb, media_type=MEDIA_GLB, headers=headers)
     if wanted.fmt == "npy":
-        arrays = {k: v for k, v in (doc.items() if isinstance(doc, dict) and only is None
-                                     and job.request.get("response") != "raw"
-                                     else [(only or "result", doc)])
-                  if isinstance(v, np.ndarray) and v.dtype.kind in "biuf"}
+        # the document's values, or the one value of a raw response or a single output
+        values = doc.values() if isinstance(doc, dict) and only is None else [doc]
+        arrays = [v for v in values if isinstance(v, np.ndarray) and v.dtype.kind in "biuf"]
         if len(arrays) != 1:
             names = [k for k, v in outputs.items() if isinstance(v, np.ndarray)]
             raise ServiceError("not-acceptable", f"{MEDIA_NPY} holds one array; these "
                                f"results have {len(arrays)}. Ask for one output: "
                                f"/jobs/{job.id}/results/{{output}}, output one of {names}.")
-        return Response(npy_bytes(next(iter(arrays.values()))), media_type=MEDIA_NPY,
+        return Response(npy_bytes(arrays[0]), media_type=MEDIA_NPY,
                         headers=headers)
     if wanted.binary_arrays:
-        doc = encode_binary_arrays(doc)
+        doc = encode_arrays(doc)
         headers["Preference-Applied"] = ", ".join(
             p for p in (headers.get("Preference-Applied"), "arrays=binary") if p)
     return JSONResponse(doc, headers=headers)
