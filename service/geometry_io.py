@@ -214,9 +214,11 @@ def _format_of(upload: Upload) -> str:
         f"{MEDIA_NPY!r} or {MEDIA_GLB!r}.", field=upload.name)
 
 
-def decode_upload(upload: Upload, *, want_mesh: bool, max_glb_bytes: int) -> Any:
-    """The value of one uploaded part: an array (``.npy``, or a file's vertices when the input
-    is points) or ``{"vertices", "faces"}`` for a mesh input. Errors name the part."""
+def decode_upload(upload: Upload, *, takes: str, max_glb_bytes: int) -> Any:
+    """The value of one uploaded part: an array (``.npy``), or from a geometry file what the
+    input ``takes``: ``"points"`` its vertices, ``"mesh"`` ``{"vertices", "faces"}`` (a point
+    cloud is refused), ``"either"`` the mesh when the file has faces, else its vertices.
+    Errors name the part."""
     fmt = _format_of(upload)
     name = upload.name
     if fmt == "json":
@@ -241,13 +243,13 @@ def decode_upload(upload: Upload, *, want_mesh: bool, max_glb_bytes: int) -> Any
     geometry = _load_geometry(upload, fmt, max_glb_bytes)
     vertices = np.asarray(geometry.vertices, dtype=np.float64)
     faces = getattr(geometry, "faces", None)
-    if want_mesh:
-        if faces is None or len(faces) == 0:
-            raise InvalidInputError(f"The part `{name}` holds a point cloud of "
-                                    f"{len(vertices)} points; this input needs a mesh with "
-                                    "faces.", field=name)
-        return {"vertices": vertices, "faces": np.asarray(faces, dtype=np.int64)}
-    return vertices
+    has_faces = faces is not None and len(faces) > 0
+    if takes == "mesh" and not has_faces:
+        raise InvalidInputError(f"The part `{name}` holds a point cloud of {len(vertices)} "
+                                "points; this input needs a mesh with faces.", field=name)
+    if takes == "points" or not has_faces:
+        return vertices
+    return {"vertices": vertices, "faces": np.asarray(faces, dtype=np.int64)}
 
 
 def _load_npy(data: bytes | bytearray | memoryview) -> np.ndarray:

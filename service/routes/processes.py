@@ -96,25 +96,30 @@ def _multipart_body(process: Process, raw: bytes, content_type: str, st: State
                            f"{sorted(fields)} (or the part 'spec').")
         if name == head and head in inputs:
             raise _invalid(name, "Given both in the spec and as a part.")
-        want_mesh = name == head and _is_mesh_input(process, head)
-        value = decode_upload(upload, want_mesh=want_mesh, max_glb_bytes=st.settings.max_input_bytes)
+        takes = _takes(process, head) if name == head else "points"  # a member: an array
+        value = decode_upload(upload, takes=takes, max_glb_bytes=st.settings.max_input_bytes)
         place_upload(inputs, name, value)
         identity.update(name.encode() + b"\0" + hashlib.sha256(upload.data).digest())
     return body, identity.digest()
 
 
-_MESH_INPUTS: dict[str, frozenset[str]] = {}
+_GEOMETRY_INPUTS: dict[str, dict[str, str]] = {}
 
 
-def _is_mesh_input(process: Process, name: str) -> bool:
-    """Whether an input is a mesh (``{"vertices", "faces"}``), so that an uploaded file gives
-    it a mesh rather than its vertices."""
-    if process.id not in _MESH_INPUTS:
+def _takes(process: Process, name: str) -> str:
+    """What an uploaded geometry file gives the input ``name``: ``"mesh"`` for a mesh input,
+    ``"either"`` for one that takes a mesh or points, else ``"points"`` (its vertices); read
+    from the alternatives of the input's JSON Schema, once per process."""
+    if process.id not in _GEOMETRY_INPUTS:
         schema = process.params.model_json_schema(mode="validation")
-        _MESH_INPUTS[process.id] = frozenset(
-            k for k, v in schema.get("properties", {}).items()
-            if "faces" in str(v.get("properties", "")) + str(v.get("anyOf", "")))
-    return name in _MESH_INPUTS[process.id]
+        kinds = {}
+        for key, prop in schema.get("properties", {}).items():
+            alternatives = prop.get("anyOf", [prop])
+            mesh = any("faces" in alt.get("properties", {}) for alt in alternatives)
+            points = any(alt.get("type") == "array" for alt in alternatives)
+            kinds[key] = "either" if mesh and points else "mesh" if mesh else "points"
+        _GEOMETRY_INPUTS[process.id] = kinds
+    return _GEOMETRY_INPUTS[process.id].get(name, "points")
 
 
 def _fetch_output(st: State, who: str | None) -> Any:

@@ -124,6 +124,20 @@ def test_point_cloud_file_gives_points_not_a_mesh(http) -> None:  # noqa: ANN001
     assert r.status_code == 422
     assert r.json()["errors"][0]["input"] == "mesh"
     assert "point cloud" in r.json()["errors"][0]["message"]
+    # an input that takes points or a mesh gets points from a point cloud, a mesh from a mesh
+    moved = trimesh.PointCloud(disk().vertices + [1.0, 0.0, 0.0])
+    r = post_multipart(http, "interpolation.rigid", {
+        "source": ("a.ply", ply, ""), "target": ("b.ply", exported(moved, "ply"), "")},
+        {"inputs": {"times": [0, 0.5, 1]}})
+    assert r.status_code == 200, r.text
+    np.testing.assert_allclose(np.asarray(r.json()["frames"])[1],
+                               disk().vertices + [0.5, 0, 0], atol=1e-6)
+    assert r.json()["faces"] == []  # a point set: no faces
+    mesh = exported(disk(), "ply")
+    r = post_multipart(http, "interpolation.arap", {"source": ("a.ply", mesh, ""),
+                                                    "target": ("b.ply", mesh, "")})
+    assert r.status_code == 200, r.text
+    np.testing.assert_array_equal(r.json()["faces"], disk().faces)
 
 
 @pytest.mark.parametrize(("files", "spec", "status", "field"), [
