@@ -503,9 +503,7 @@ def result_glb(process_id: str, outputs: dict[str, Any], inputs: dict[str, Any])
         # tetrahedra: their boundary triangles; point sets: None (points)
         faces = surface_triangles(frames[0], faces) if faces is not None and len(faces) \
             else None
-        if frames.shape[-1] != 3:
-            frames = np.concatenate(
-                [frames, np.zeros(frames.shape[:-1] + (3 - frames.shape[-1],))], axis=-1)
+        # 2-D frames go as they are: the writer sets z = 0
         return gltf.morph_animation_glb(frames, faces, times=_seconds(outputs.get("times")))
     if "uv" in outputs:
         vertices, faces = _mesh_parts(outputs.get("mesh", inputs.get("mesh")))
