@@ -98,3 +98,17 @@ def test_every_error_response_uses_problem_json(doc: dict[str, Any]) -> None:
                "$ref": "#/components/schemas/Problem"}}}]
     assert not bad, f"error responses not documented as problem+json: {bad}"
     assert "HTTPValidationError" not in doc["components"]["schemas"]
+
+
+def test_help_prints_usage_and_writes_nothing(tmp_path: Path, monkeypatch,  # noqa: ANN001
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    from service.openapi import main
+
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as done:
+        main(["--help"])
+    assert done.value.code == 0
+    assert "usage: python -m service.openapi" in capsys.readouterr().out
+    assert list(tmp_path.iterdir()) == []  # not a document written to a file named --help
+    assert main([str(tmp_path / "doc.json")]) == 0
+    assert json.loads((tmp_path / "doc.json").read_text()) == json.loads(render())
