@@ -2,7 +2,8 @@
 
 Offered only when the setting ``test_processes`` is on (``MORPHSERVE_TEST_PROCESSES=1``):
 ``diagnostics.sleep`` works for a while and reports progress (cancellation, time limits,
-progress reporting), ``diagnostics.crash`` kills the worker process running it (worker loss).
+progress reporting), ``diagnostics.nap`` is the same on the fast path (a fast-path job that
+outlasts its client's wait), ``diagnostics.crash`` kills the worker process running it (worker loss).
 """
 
 from __future__ import annotations
@@ -47,6 +48,12 @@ def sleep(seconds: float = 1.0, steps: int = 10, *, progress: Progress | None = 
     return SleepResult(time.monotonic() - start, steps)
 
 
+def nap(seconds: float = 1.0, steps: int = 10, *, progress: Progress | None = None
+        ) -> SleepResult:
+    """:func:`sleep`, offered on the fast path (run inside the service, not on a worker)."""
+    return sleep(seconds, steps, progress=progress)
+
+
 @dataclass(frozen=True)
 class CrashResult:
     """Attributes
@@ -76,6 +83,10 @@ diagnostics = Registry()
 diagnostics.add(Process(id="diagnostics.sleep", title="Sleep (diagnostic)",
                         description="Sleeps and reports progress; for tests of the job service.",
                         function=sleep, params=SleepParams, result=SleepResult, long=True))
+diagnostics.add(Process(id="diagnostics.nap", title="Sleep on the fast path (diagnostic)",
+                        description="Sleeps and reports progress in the service's own fast "
+                        "path; for tests of the job service.", function=nap,
+                        params=SleepParams, result=SleepResult, fast_path=True))
 diagnostics.add(Process(id="diagnostics.crash", title="Crash a worker (diagnostic)",
                         description="Kills the worker process that runs it; for tests of "
                         "worker loss.", function=crash, params=CrashParams, result=CrashResult,

@@ -10,7 +10,10 @@ closed-form job on a thousand points takes. Jobs of processes marked ``fast_path
 are at most ``fast_path_bytes`` run on a small thread pool inside the service instead. They are
 recorded, reported, dismissable and time-limited exactly like the others; after a restart they
 are resubmitted through Dask, never in-process, so a job that crashes the service cannot do it
-twice.
+twice. A fast-path job whose client waits for it (``Prefer: wait``) runs before its row is
+written, and is then recorded finished in one commit (:meth:`Engine.run_first`): the client
+hears of it only after that commit, and a job that takes longer than the wait is recorded
+accepted and goes on as any other.
 
 For every job the engine keeps a :class:`_Handle` and a watcher task that records the outcome
 in the store and wakes the requests waiting on it (``Prefer: wait``). Progress events
@@ -26,7 +29,7 @@ import asyncio
 import logging
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
@@ -94,6 +97,8 @@ class Engine:
         self.cluster: LocalCluster | None = None
         self.client: Client | None = None
         self._jobs: dict[str, _Handle] = {}
+        self._unrecorded = 0
+        """Fast-path jobs running before their row is written (:meth:`run_first`)."""
         self._tasks: set[asyncio.Task[Any]] = set()
         self._pool = ThreadPoolExecutor(max_workers=settings.fast_path_threads,
                                         thread_name_prefix="morphserve-fast")
@@ -142,7 +147,7 @@ class Engine:
     @property
     def active(self) -> int:
         """Jobs accepted or running here (the queue-length limit counts these)."""
-        return len(self._jobs)
+        return len(self._jobs) + self._unrecorded
 
     async def n_workers(self) -> int:
         if self.client is None:
@@ -216,21 +221,64 @@ class Engine:
 
     # -- running and watching ----------------------------------------------------------------
     async def _run_fast(self, handle: _Handle, kwargs: dict[str, Any]) -> None:
+        self._on_event((0.0, {"job": handle.job.id, "kind": "started"}))
+        await self._record(handle, await self._compute(handle, kwargs))
+
+    async def _compute(self, handle: _Handle, kwargs: dict[str, Any]) -> dict[str, Any]:
+        """Run a fast-path job on the pool; its outcome (the runner catches every error)."""
         loop = asyncio.get_running_loop()
         job = handle.job
 
         def publish(event: dict[str, Any]) -> None:
-            if event["kind"] != "started":  # the start is noted here, without a thread hop
+            if event["kind"] != "started":  # the start is noted by the caller, no thread hop
                 loop.call_soon_threadsafe(self._on_event, (0.0, event))
 
-        self._on_event((0.0, {"job": job.id, "kind": "started"}))
         reporter = Reporter(job.id, job.time_limit, publish=publish,
                             cancelled=handle.cancel.is_set)
-        outcome = await loop.run_in_executor(
+        return await loop.run_in_executor(
             self._pool, lambda: run_job(job.id, job.process, kwargs, "", job.time_limit,
                                         test_processes=self.settings.test_processes,
                                         reporter=reporter))
-        await self._record(handle, outcome)
+
+    async def run_first(self, job: JobRecord, kwargs: dict[str, Any], wait: float,
+                        record: Callable[[dict[str, Any] | None, float], Awaitable[JobRecord]]
+                        ) -> tuple[JobRecord, dict[str, Any] | None]:
+        """Run a fast-path job *before* its row is written, for a client that waits for it.
+
+        ``job`` is the record to be (its id fixed, not yet stored). If the job ends within
+        ``wait`` seconds, ``record(outcome, started)`` stores it finished, row, inputs and
+        outcome in one commit; else ``record(None, started)`` stores it accepted and it goes
+        on like any other job, its end recorded when it comes. Either way the client hears
+        of the job only once it is recorded, so nothing is answered that a crash could lose,
+        and a finished fast job costs one fsync instead of two. Returns the stored record
+        and the outcome (``None`` while still running)."""
+        handle = _Handle(job, asyncio.get_running_loop().create_future(),
+                         started=time.monotonic())
+        started = time.time()
+        self._unrecorded += 1
+        try:
+            compute = self._spawn(self._compute(handle, kwargs))
+            if job.time_limit is not None:
+                wait = min(wait, job.time_limit + GRACE)
+            await asyncio.wait({compute}, timeout=wait)
+            if compute.done():
+                outcome = compute.result()
+                stored = await record(outcome, started)
+                handle.job = stored
+                for callback in self.on_finish:
+                    callback(stored, outcome)
+                return stored, outcome
+            stored = await record(None, started)
+        finally:
+            self._unrecorded -= 1
+        handle.job = stored
+        self._jobs[stored.id] = handle
+        self._spawn(self._adopt(handle, compute))
+        return stored, None
+
+    async def _adopt(self, handle: _Handle, compute: asyncio.Task[dict[str, Any]]) -> None:
+        """Record the end of a job :meth:`run_first` stored while it was running."""
+        await self._record(handle, await compute)
 
     async def _watch(self, handle: _Handle) -> None:
         assert handle.future is not None

@@ -318,11 +318,14 @@ class JobStore:
     # -- writing -----------------------------------------------------------------------------
     def create(self, *, process: str, inputs: Mapping[str, Any], request: Mapping[str, Any],
                time_limit: float | None, idempotency_key: str | None = None,
-               request_hash: str | None = None, owner: str = "") -> JobRecord:
+               request_hash: str | None = None, owner: str = "", job_id: str | None = None,
+               created: float | None = None) -> JobRecord:
         """Record a new accepted job with its inputs; durable when this returns.
 
-        ``idempotency_key`` is unique per ``owner``: two keys' clients may use the same."""
-        job_id = str(uuid.uuid4())
+        ``idempotency_key`` is unique per ``owner``: two keys' clients may use the same.
+        ``job_id`` and ``created`` are new ones unless given (a job run before its row was
+        written, :meth:`create_finished`)."""
+        job_id = job_id or str(uuid.uuid4())
         inputs_file = None
         blob: bytes | None = None
         if _array_bytes(inputs) > self.inline_input_bytes:  # pickled straight into the file:
@@ -334,7 +337,7 @@ class JobStore:
                 inputs_file = f"inputs/{job_id}.pkl"
                 write_atomic(self.data_dir / inputs_file, blob, fsync=self.fsync)
                 blob = None
-        now = time.time()
+        now = created or time.time()
         try:
             with self._lock:
                 self._db.execute(
@@ -352,6 +355,25 @@ class JobStore:
                          request=dict(request), problem=None, time_limit=time_limit,
                          idempotency_key=idempotency_key, request_hash=request_hash,
                          attempts=0, inputs_file=inputs_file, owner=owner)
+
+    def create_finished(self, outcome: Mapping[str, Any], *, started: float,
+                        **create: Any) -> JobRecord:
+        """Record a job that already ran (a fast-path job the client waited for): its row,
+        inputs and outcome in one transaction, so one commit (one fsync) instead of the two
+        of :meth:`create` and :meth:`finish`. Nothing was accepted before this returns: the
+        client hears of the job only after the commit. ``create`` are :meth:`create`'s
+        arguments, ``outcome`` is the runner's (successful with outputs, or failed)."""
+        status, problem = outcome["status"], outcome.get("problem")
+        message = "done" if status == "successful" else problem["detail"]
+        with self._atomic():  # a savepoint when group-committed: not readable till the commit
+            job = self.create(**create)
+            now = time.time()
+            self.finish(job.id, status, message, problem, outcome.get("outputs"),
+                        started=started, now=now)
+        return dataclasses.replace(
+            job, status=status, message=message, problem=dict(problem) if problem else None,
+            progress=100 if status == "successful" else 0, started=started, finished=now,
+            updated=now)
 
     def _update(self, job_id: str, where: str = "", **values: Any) -> bool:
         values.setdefault("updated", time.time())
@@ -380,11 +402,12 @@ class JobStore:
     def finish(self, job_id: str, status: str, message: str,
                problem: Mapping[str, Any] | None = None,
                outputs: Mapping[str, Any] | None = None,
-               started: float | None = None) -> bool:
+               started: float | None = None, now: float | None = None) -> bool:
         """running/accepted -> successful/failed, with the outputs in the same transaction.
         A dismissed job stays dismissed. ``started`` fills in a start time never recorded
-        (fast-path jobs are not marked running: they take milliseconds)."""
-        now = time.time()
+        (fast-path jobs are not marked running: they take milliseconds); ``now`` is the
+        end's time (default: now)."""
+        now = now or time.time()
         blob = pickle.dumps(dict(outputs), protocol=5) if outputs is not None else None
         with self._atomic():
             cur = self._db.execute(

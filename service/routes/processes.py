@@ -5,6 +5,8 @@ from __future__ import annotations
 import hashlib
 import math
 import sqlite3
+import time
+import uuid
 from typing import Any
 
 from fastapi import APIRouter, Request
@@ -17,6 +19,7 @@ from algorithms.core.errors import InvalidInputError
 from service.binary import decode_arrays
 from service.catalog import Process, processes
 from service.errors import ServiceError
+from service.jobs.store import JobRecord
 from service.geometry_io import decode_upload, parse_multipart, place_upload, resolve_refs
 from service.jsonio import JSONResponse
 from service.problems import pydantic_errors
@@ -256,24 +259,47 @@ async def execute(processId: str, request: Request) -> Response:  # noqa: N803
             raise ServiceError("queue-full", f"This API key has {mine} jobs waiting or "
                                f"running; the limit per key is "
                                f"{st.settings.max_queue_per_key}.", headers={"Retry-After": "5"})
+    fast = process.fast_path and spec["nbytes"] <= st.settings.fast_path_bytes
+    wait, applied = _wait_for(prefer, process, spec.get("mode"), st)
+    args = dict(process=process.id, inputs=spec["kwargs"], request=spec["request"],
+                time_limit=spec["time_limit"], idempotency_key=key, request_hash=digest,
+                owner=who)
     try:
-        job = await _create(st, process, spec, key, digest, who)
+        if fast and wait > 0 and not spec["request"].get("subscriber"):
+            job, outcome = await _run_first(st, args, wait)
+            if job.active:
+                applied = "respond-async" if applied else None
+            return job_response(st, job, outcome, applied, wanted=wanted)
+        job = await st.store.write(st.store.create, **args)
     except sqlite3.IntegrityError:  # the same key raced in from another request
         earlier = st.store.by_idempotency_key(key or "", who)
         assert earlier is not None
         return await _answer_existing(st, earlier, digest, prefer, process, wanted)
-    fast = process.fast_path and spec["nbytes"] <= st.settings.fast_path_bytes
     st.engine.submit(job, spec["kwargs"] if job.inputs_file is None
                      else st.store.payload(job), fast=fast)
     return await _answer(st, job.id, prefer, process, spec.get("mode"), wanted)
 
 
-async def _create(st: State, process: Process, spec: dict[str, Any], key: str | None,
-                  digest: str | None, who: str):  # noqa: ANN202
-    args = dict(process=process.id, inputs=spec["kwargs"], request=spec["request"],
-                time_limit=spec["time_limit"], idempotency_key=key, request_hash=digest,
-                owner=who)
-    return await st.store.write(st.store.create, **args)
+async def _run_first(st: State, args: dict[str, Any], wait: float
+                     ) -> tuple[JobRecord, dict[str, Any] | None]:
+    """A fast-path job the client waits for: run, then recorded with its outcome in one
+    commit (or recorded accepted if it outlasts the wait; see ``Engine.run_first``)."""
+    now = time.time()
+    job = JobRecord(id=str(uuid.uuid4()), process=args["process"], status="accepted",
+                    message="", progress=0, created=now, started=None, finished=None,
+                    updated=now, request=dict(args["request"]), problem=None,
+                    time_limit=args["time_limit"], idempotency_key=args["idempotency_key"],
+                    request_hash=args["request_hash"], attempts=0, inputs_file=None,
+                    owner=args["owner"])
+
+    async def record(outcome: dict[str, Any] | None, started: float) -> JobRecord:
+        ids = dict(args, job_id=job.id, created=now)
+        if outcome is None:
+            return await st.store.write(st.store.create, **ids)
+        return await st.store.write(st.store.create_finished, outcome, started=started, **ids)
+
+    return await st.engine.run_first(job, args["inputs"], wait if math.isfinite(wait) else 1e9,
+                                     record)
 
 
 def _wait_for(prefer: dict[str, str | None], process: Process, mode: Any,

@@ -57,7 +57,7 @@ def _example_inputs(p: Process) -> dict[str, Any]:
 def test_catalog_is_not_empty() -> None:
     assert len(registry) >= 2
     assert {"alignment.rigid", "assignment.nearest"} <= set(registry)
-    assert set(diagnostics) == {"diagnostics.sleep", "diagnostics.crash"}
+    assert set(diagnostics) == {"diagnostics.sleep", "diagnostics.nap", "diagnostics.crash"}
     assert not set(registry) & set(diagnostics)
 
 
@@ -173,7 +173,7 @@ _KIND = {"array": (np.ndarray, list, tuple), "number": (float, np.floating),
 @pytest.mark.parametrize("p", [p for p in ALL if p.id not in NEVER_RUN], ids=_ids)
 def test_run_first_examples(p: Process) -> None:
     raw = _example_inputs(p)
-    if p.id == "diagnostics.sleep":
+    if p.id in ("diagnostics.sleep", "diagnostics.nap"):
         raw = {"seconds": 0.0, "steps": 2}  # no examples; keep it instant
     params = p.params.model_validate(raw, context={"max_points": 1000})
     kwargs = p.kwargs(params)
@@ -494,12 +494,12 @@ def test_examples_give_the_same_results_from_binary_arrays(p: Process) -> None:
     from service.binary import decode_arrays
 
     raw = _example_inputs(p)
-    if p.id == "diagnostics.sleep":
+    if p.id in ("diagnostics.sleep", "diagnostics.nap"):
         raw = {"seconds": 0.0, "steps": 2}
     ctx = {"max_points": 1000}
     as_lists = p.run(p.kwargs(p.params.model_validate(raw, context=ctx)))
     decoded = {k: decode_arrays(_as_binary(v), k) for k, v in raw.items()}
     as_binary = p.run(p.kwargs(p.params.model_validate(decoded, context=ctx)))
-    if p.id == "diagnostics.sleep":
+    if p.id in ("diagnostics.sleep", "diagnostics.nap"):
         return  # its output is a measured time
     assert jsonio.dumps(as_binary) == jsonio.dumps(as_lists), p.id

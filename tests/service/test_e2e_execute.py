@@ -83,6 +83,54 @@ def test_wait_returns_results_when_fast_enough(http) -> None:
     assert http.get(job_path.removesuffix("/results")).json()["status"] == "successful"
 
 
+def test_waited_fast_job_is_recorded_whole(http) -> None:
+    """A fast-path job the client waits for runs before its row is written, then is stored
+    with its inputs and outcome at once: the job, its times and results read back."""
+    X, Y, R, _ = _random_pair(4, n=50)
+    before = time.time()
+    r = http.post("/processes/alignment.rigid/execution", headers={"Prefer": "wait=30"},
+                  json={"inputs": {"source": X.tolist(), "target": Y.tolist()}})
+    assert r.status_code == 200, r.text
+    job = http.get(r.headers["content-location"].removesuffix("/results")).json()
+    assert job["status"] == "successful" and job["progress"] == 100
+    created, started, finished = (job[k] for k in ("created", "started", "finished"))
+    assert before - 1 <= _epoch(created) <= _epoch(started) <= _epoch(finished) <= time.time() + 1
+    again = http.get(r.headers["content-location"]).json()
+    np.testing.assert_array_equal(again["rotation"], r.json()["rotation"])
+    np.testing.assert_allclose(again["rotation"], R, atol=1e-10)
+
+
+def test_fast_job_outlasting_the_wait_goes_on_as_a_job(http) -> None:
+    """A fast-path job still running when the wait ends is recorded accepted, answered 201,
+    and then finishes (or is dismissed) like any other job."""
+    t0 = time.monotonic()
+    r = http.post("/processes/diagnostics.nap/execution", headers={"Prefer": "wait=0.3"},
+                  json={"inputs": {"seconds": 1.0, "steps": 10}})
+    assert r.status_code == 201, r.text
+    assert 0.25 < time.monotonic() - t0 < 0.95
+    assert r.headers["preference-applied"] == "respond-async"
+    job_id = r.json()["jobID"]
+    assert r.json()["status"] in ("accepted", "running")
+    assert http.get(f"/jobs/{job_id}").json()["status"] in ("accepted", "running")
+    assert wait_for_status(http, job_id)["status"] == "successful"
+    assert http.get(f"/jobs/{job_id}/results").json()["slept"] >= 1.0
+
+    r = http.post("/processes/diagnostics.nap/execution", headers={"Prefer": "wait=0.2"},
+                  json={"inputs": {"seconds": 20.0, "steps": 200}})
+    assert r.status_code == 201, r.text
+    job_id = r.json()["jobID"]
+    t0 = time.monotonic()
+    assert http.delete(f"/jobs/{job_id}").json()["status"] == "dismissed"
+    assert wait_for_status(http, job_id)["status"] == "dismissed"
+    assert time.monotonic() - t0 < 5
+
+
+def _epoch(stamp: str) -> float:
+    from datetime import datetime
+
+    return datetime.fromisoformat(stamp.replace("Z", "+00:00")).timestamp()
+
+
 def test_wait_expiring_answers_async(http) -> None:
     t0 = time.monotonic()
     r = http.post("/processes/diagnostics.sleep/execution", headers={"Prefer": "wait=0.5"},

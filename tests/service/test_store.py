@@ -165,6 +165,35 @@ def test_finish_on_accepted_job(store: JobStore) -> None:
     assert store.result(job.id) == {"x": 1}
 
 
+@pytest.mark.parametrize("outcome", [
+    {"status": "successful", "outputs": {"x": np.arange(3.0)}},
+    {"status": "failed", "problem": {"type": "/problems/invalid-input", "status": 422,
+                                     "detail": "bad source", "errors": []}}])
+def test_create_finished_is_one_transaction(store: JobStore, outcome: dict) -> None:
+    """A job that ran before its row: row, inputs and outcome in one commit, and the record
+    it returns is the one read back."""
+    statements: list[str] = []
+    store._db.set_trace_callback(statements.append)
+    started = time.time()
+    job = store.create_finished(outcome, started=started, process="alignment.rigid",
+                                inputs={"source": _points(5)}, request={}, time_limit=None,
+                                job_id="fixed-id", created=started - 0.5)
+    store._db.set_trace_callback(None)
+    words = [st.split()[0].upper() for st in statements]
+    assert words.count("BEGIN") == 1 and words.count("COMMIT") == 1, statements
+    assert words[0] == "BEGIN" and words[-1] == "COMMIT", statements
+    assert job.id == "fixed-id" and job.created == started - 0.5 and job.started == started
+    assert store.get(job.id) == job
+    assert job.status == outcome["status"] and not job.active
+    assert job.finished is not None and job.finished >= started
+    if job.status == "successful":
+        assert job.progress == 100 and job.message == "done"
+        assert _same_array(store.result(job.id)["x"], np.arange(3.0))
+    else:
+        assert job.problem == outcome["problem"] and job.message == "bad source"
+    assert _same_array(store.inputs(job)["source"], _points(5))
+
+
 def test_finish_on_dismissed_job_does_nothing(store: JobStore) -> None:
     job = _create(store)
     store.mark_running(job.id)
