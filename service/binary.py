@@ -21,7 +21,7 @@ import numpy as np
 
 from algorithms.core.errors import InvalidInputError
 
-__all__ = ["BINARY_KEYS", "decode_arrays", "encode_arrays", "is_binary_array"]
+__all__ = ["BINARY_KEYS", "decode_arrays", "encode_arrays", "is_binary_array", "owned"]
 
 #: The members of a typed binary array object, exactly.
 BINARY_KEYS = frozenset({"dtype", "shape", "data"})
@@ -71,8 +71,9 @@ def _decode(obj: dict[str, Any], name: str) -> np.ndarray:
             f"Expected {what} of shape {tuple(shape)} and dtype {dtype.str} to hold "
             f"{expected} bytes, got a longer base64 string ({len(data)} characters).",
             field=name)
-    try:
-        raw = base64.b64decode(data, validate=True)
+    try:  # strict: only the alphabet and correct padding (b64decode's validate=True checks
+        # the same with a regular expression over the whole string first, 4x slower)
+        raw = binascii.a2b_base64(data, strict_mode=True)
     except (binascii.Error, ValueError):
         raise InvalidInputError(f"Expected {what} to carry valid base64 in `data`.",
                                 field=name) from None
@@ -80,9 +81,27 @@ def _decode(obj: dict[str, Any], name: str) -> np.ndarray:
         raise InvalidInputError(
             f"Expected {what} of shape {tuple(shape)} and dtype {dtype.str} to hold "
             f"{expected} bytes, got {len(raw)}.", field=name)
-    # a writable native-order copy: frombuffer's view of the bytes is read-only, and a
-    # method that works in place on its input must not fail on binary inputs only
-    return np.frombuffer(raw, dtype=dtype).reshape(shape).astype(dtype.newbyteorder("="))
+    arr = np.frombuffer(raw, dtype=dtype).reshape(shape)
+    # a read-only view of the decoded bytes: a large input goes to the job store as it is;
+    # what runs in the service's own process gets a writable copy (:func:`owned`)
+    return arr if dtype.isnative else arr.astype(dtype.newbyteorder("="))
+
+
+def owned(kwargs: dict[str, Any]) -> dict[str, Any]:
+    """``kwargs`` with every array that is a read-only or misaligned view (of a request
+    body, or of base64-decoded bytes) replaced by a writable, aligned copy, in meshes and
+    other dataclasses too: what a method that runs in this process, and may work in place
+    on its input, must get. Arrays that already own their memory are kept as they are."""
+    def own(value: Any) -> Any:
+        if isinstance(value, np.ndarray):
+            return value if value.flags.writeable and value.flags.aligned else value.copy()
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            changes = {f.name: own(getattr(value, f.name)) for f in dataclasses.fields(value)
+                       if isinstance(getattr(value, f.name), np.ndarray)}
+            return dataclasses.replace(value, **changes) if changes else value
+        return value
+
+    return {k: own(v) for k, v in kwargs.items()}
 
 
 def encode_arrays(value: Any) -> Any:

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from morphserve._models import BINARY_ABOVE, binary_array, to_json_value
-from service.binary import decode_arrays
+from service.binary import decode_arrays, owned
 
 pytestmark = pytest.mark.e2e
 
@@ -107,8 +107,31 @@ def test_the_sdk_encoder_and_the_service_decoder_agree() -> None:
         assert isinstance(sent, dict) and sent == binary_array(a)
         back = decode_arrays(sent, "x")
         assert back.shape == a.shape and back.dtype == a.dtype.newbyteorder("=")
-        assert back.flags.writeable  # methods may work in place on their inputs
+        mine = owned({"x": back})["x"]  # what a method in this process gets: it may work
+        assert mine.flags.writeable and mine.flags.aligned  # in place on its inputs
+        assert mine.tobytes() == back.tobytes()
         assert back.tobytes() == a.astype(a.dtype.newbyteorder("=")).tobytes()
     small = rng.normal(size=(10, 3))
     assert to_json_value(small, "x") == small.tolist()  # small arrays stay readable lists
     assert to_json_value(np.array([True, False]), "x") == [True, False]
+
+
+def test_owned_copies_views_only() -> None:
+    """Arrays that own writable, aligned memory are passed on as they are; read-only and
+    misaligned views (of a body, of decoded bytes) are copied, in meshes too."""
+    from algorithms.core.mesh import Mesh
+
+    mine = np.arange(12.0).reshape(4, 3)
+    body = bytearray(8 * 12 + 1)
+    misaligned = np.frombuffer(body, dtype=np.float64, count=12, offset=1).reshape(4, 3)
+    readonly = np.frombuffer(mine.tobytes(), dtype=np.float64).reshape(4, 3)
+    assert not misaligned.flags.aligned and not readonly.flags.writeable
+    faces = np.frombuffer(np.array([[0, 1, 2]], np.int64).tobytes(), dtype=np.int64)
+    mesh = Mesh(vertices=mine, faces=faces.reshape(1, 3))
+    out = owned({"a": mine, "b": misaligned, "c": readonly, "m": mesh, "k": 3})
+    assert out["a"] is mine and out["k"] == 3
+    for name, src in (("b", misaligned), ("c", readonly)):
+        assert out[name] is not src and out[name].flags.writeable and out[name].flags.aligned
+        np.testing.assert_array_equal(out[name], src)
+    assert out["m"].vertices is mine and out["m"].faces.flags.writeable
+    np.testing.assert_array_equal(out["m"].faces, [[0, 1, 2]])
