@@ -31,6 +31,10 @@ __all__ = ["trustworthiness", "fix_signs", "quality_neighbors"]
 
 #: Most rows of input distances computed at once (memory: ``_CHUNK × n`` floats).
 _CHUNK = 256
+#: Inputs of at most this many dimensions count the outsiders' ranks from kd-tree balls.
+_BALL_DIMENSIONS = 16
+#: Most ball members handled at once (memory: a few arrays of this many).
+_BALL_CHUNK = 1 << 22
 
 
 def quality_neighbors(k: int, n: int) -> int:
@@ -68,7 +72,9 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
     -----
     Cost: two kd-tree queries, then :math:`O(n)` per embedded neighbour that is not an
     input neighbour (its rank is counted), in blocks of rows; scikit-learn sorts the full
-    :math:`n \times n` distance matrix.
+    :math:`n \times n` distance matrix. Inputs of at most 16 dimensions count such a rank
+    among the input points in a kd-tree ball of that neighbour's radius instead (a few
+    points for a good embedding), unless the balls hold more than half the rows would.
 
     References
     ----------
@@ -96,10 +102,15 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
     own[missing, -1] = True
     nbr = nbr[~own].reshape(n, k)
     # only embedded neighbours that are not among the k nearest inputs have rank > k
-    _, true = cKDTree(x).query(x, k=k + 1)
+    tree = cKDTree(x)
+    _, true = tree.query(x, k=k + 1)
     true = true.reshape(n, k + 1)
     member = (nbr[:, :, None] == true[:, None, :]).any(axis=2)
     rows = np.flatnonzero(~member.all(axis=1))
+    if x.shape[1] <= _BALL_DIMENSIONS:
+        total = _outsider_ranks_by_tree(x, tree, nbr, member, k, rows.size * n // 2)
+        if total is not None:
+            return 1.0 - total * 2.0 / (n * k * (2.0 * n - 3.0 * k - 1.0))
     sq = np.einsum("ij,ij->i", x, x)
     total = 0.0
     chunk = max(1, min(_CHUNK, 20_000_000 // n))
@@ -115,6 +126,48 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
                 ranks = 1 + (d[out] < dn[out, c][:, None]).sum(axis=1)
                 total += float(np.maximum(ranks - k, 0).sum())
     return 1.0 - total * 2.0 / (n * k * (2.0 * n - 3.0 * k - 1.0))
+
+
+def _outsider_ranks_by_tree(x: FloatArray, tree: cKDTree, nbr: Any, member: Any, k: int,
+                            limit: int) -> float | None:
+    """The sum of ``max(0, r(i, j) - k)`` over the embedded neighbours ``j`` of ``i`` that
+    are not among its ``k`` nearest inputs, each rank counted over the input points inside
+    a kd-tree ball of radius ``d(i, j)`` (slightly enlarged: the count itself compares the
+    squared differences ``d(i, l)^2 < d(i, j)^2``, computed the same way for both). None
+    when the balls hold more than ``limit`` points (bad embeddings: full rows are
+    cheaper)."""
+    oi, oc = np.nonzero(~member)
+    if oi.size == 0:
+        return 0.0
+    oj = nbr[oi, oc]
+    diff = x[oi] - x[oj]
+    d2 = np.einsum("ij,ij->i", diff, diff)
+    radius = np.sqrt(d2) * (1.0 + 1e-9)
+    every = max(1, oi.size // 256)  # a sample first: a bad embedding stops here cheaply
+    sample = tree.query_ball_point(x[oi[::every]], radius[::every], return_length=True)
+    if int(sample.sum()) * every > 2 * limit:
+        return None
+    counts = tree.query_ball_point(x[oi], radius, return_length=True)
+    if int(counts.sum()) > limit:
+        return None
+    total = 0.0
+    ends = np.cumsum(counts)
+    start = 0
+    while start < oi.size:
+        stop = max(start + 1, int(np.searchsorted(ends, ends[start] - counts[start]
+                                                  + _BALL_CHUNK, side="right")))
+        balls = tree.query_ball_point(x[oi[start:stop]], radius[start:stop])
+        lens = np.fromiter((len(b) for b in balls), dtype=np.int64, count=len(balls))
+        inside = (np.concatenate([np.asarray(b, dtype=np.int64) for b in balls])
+                  if lens.sum() else np.zeros(0, dtype=np.int64))
+        owner = np.repeat(np.arange(stop - start), lens)
+        centre = oi[start:stop][owner]
+        diff = x[centre] - x[inside]
+        closer = (np.einsum("ij,ij->i", diff, diff) < d2[start:stop][owner]) & (inside != centre)
+        ranks = 1 + np.bincount(owner, weights=closer, minlength=stop - start)
+        total += float(np.maximum(ranks - k, 0).sum())
+        start = stop
+    return total
 
 
 def fix_signs(vectors: FloatArray) -> FloatArray:

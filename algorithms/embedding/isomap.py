@@ -2,15 +2,19 @@ r"""Isomap: classical MDS of geodesic (shortest-path) distances along a neighbou
 
 from __future__ import annotations
 
+import heapq
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.sparse.csgraph import shortest_path
+import scipy.linalg as la
+import scipy.sparse as sp
+from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
 from algorithms.core.graphs import neighbour_graph
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray
+from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_choice, as_int, as_points
 from algorithms.embedding._quality import trustworthiness
 from algorithms.layout.mds import classical_coordinates
@@ -19,6 +23,25 @@ __all__ = ["IsomapResult", "isomap", "MAX_ISOMAP_POINTS"]
 
 #: Isomap holds the dense ``n×n`` geodesic distances (10,000 points: 800 MB).
 MAX_ISOMAP_POINTS = 10_000
+
+#: From this many points the geodesic distances come from Dijkstra on a separator only
+#: (:func:`_geodesic_distances`); below, Dijkstra from every point.
+_PATCHED_FROM = 1000
+#: Points per breadth-first ball that seeds a patch: larger patches mean fewer Dijkstra
+#: rows (the separator) but wider boundaries (longer min-plus products); 192 balanced them
+#: on the 5,000-point swiss roll (a fifth of the points in the separator).
+_PATCH_BALL = 192
+#: Patches only for graphs this sparse (mean degree); denser ones have wide boundaries.
+_PATCH_MAX_DEGREE = 40
+#: A patch is derived from its boundary when ``boundary * columns`` is below this many
+#: times ``edges + n log2 n`` (one Dijkstra); else its points join the separator.
+_DERIVE_RATIO = 4.0
+#: Block Krylov: stop when every wanted Ritz residual is below this times the largest
+#: Ritz value in magnitude; at least this many basis vectors before a thick restart; at
+#: most this many steps (products with the matrix) before ARPACK takes over.
+_KRYLOV_TOLERANCE = 1e-12
+_KRYLOV_BASIS = 96
+_KRYLOV_STEPS = 60
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,8 +127,14 @@ def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     ``sklearn.manifold.Isomap(n_neighbors=k, eigen_solver="dense")`` up to the signs of the
     columns (same sign convention here, so equal up to ties of neighbours).
 
-    Cost: Dijkstra from every point, :math:`O(n (e + n \log n))`; :math:`O(n^2)` memory for
-    the geodesic distances; the eigenvectors by Lanczos (ARPACK) above 400 points.
+    Cost: :math:`O(n^2)` memory for the geodesic distances. Below 1,000 points, Dijkstra
+    from every point, :math:`O(n (e + n \log n))`; from 1,000 (sparse graphs), Dijkstra
+    from a separator of graph patches only (a fifth of the points on a swiss roll) and
+    every other row by a min-plus product of the boundary rows of its patch, exact up to
+    rounding (:func:`_geodesic_distances`). The eigenvectors above 400 points: a block
+    Krylov method on :math:`-\tfrac12 J G^{(2)} J` applied without forming it, to Ritz
+    residuals below :math:`10^{-12}` of the largest eigenvalue (ARPACK on the explicit
+    matrix if that fails); a dense eigendecomposition below.
 
     References
     ----------
@@ -132,13 +161,239 @@ def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
                         connected="isomap")
     if weighting == "uniform":
         g.data = np.ones_like(g.data)
-    geo = shortest_path(g, method="D", directed=True)  # g is symmetric
+    geo = _geodesic_distances(g)
     geo *= geo
-    with single_blas_thread():
-        y, eigenvalues = classical_coordinates(geo, k)
+    y, eigenvalues = _principal_coordinates(geo, k)
     del geo
     return IsomapResult(
         embedding=y,
         eigenvalues=eigenvalues,
         trustworthiness=trustworthiness(x, y, n_neighbors=quality_neighbors),
     )
+
+
+def _induced(g: sp.csr_array, idx: IntArray) -> sp.csr_array:
+    """The subgraph of ``g`` on the vertices ``idx`` (in that order), explicit zero-length
+    edges kept (scipy's csgraph reads them as edges)."""
+    pos = np.full(g.shape[0], -1, dtype=np.int64)
+    pos[idx] = np.arange(idx.size)
+    starts = g.indptr[idx].astype(np.int64)
+    lens = g.indptr[idx + 1] - starts
+    total = int(lens.sum())
+    take = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(total)
+    rows = np.repeat(np.arange(idx.size), lens)
+    cols = pos[g.indices[take]]
+    keep = cols >= 0
+    return sp.csr_array((g.data[take][keep], (rows[keep], cols[keep])),
+                        shape=(idx.size, idx.size))
+
+
+def _patches(g: sp.csr_array, ball: int) -> IntArray:
+    """A label per vertex: graph Voronoi cells (by edge length) of seeds chosen greedily,
+    each seed the first vertex not yet within the first ``ball`` vertices of an earlier
+    seed's breadth-first order."""
+    n = g.shape[0]
+    covered = np.zeros(n, dtype=bool)
+    seeds = []
+    v = 0
+    while v < n:
+        if not covered[v]:
+            seeds.append(v)
+            covered[breadth_first_order(g, v, directed=True,
+                                        return_predecessors=False)[:ball]] = True
+        v += 1
+    _, _, labels = dijkstra(g, directed=True, indices=np.asarray(seeds), min_only=True,
+                            return_predecessors=True)
+    return labels
+
+
+def _cover(n: int, rows: IntArray, cols: IntArray, cut: Any) -> Any:
+    """A vertex cover of the edges ``rows[cut] - cols[cut]`` (both directions listed):
+    greedily the vertex on the most uncovered edges first. A boolean mask."""
+    r, c = rows[cut], cols[cut]
+    cover = np.zeros(n, dtype=bool)
+    if r.size == 0:
+        return cover
+    order = np.argsort(r, kind="stable")
+    r, c = r[order], c[order]
+    start = np.searchsorted(r, np.arange(n + 1))
+    degree = np.diff(start)
+    heap = [(-int(degree[v]), int(v)) for v in np.flatnonzero(degree)]
+    heapq.heapify(heap)
+    while heap:
+        d, v = heapq.heappop(heap)
+        if cover[v] or degree[v] == 0:
+            continue
+        if -d != degree[v]:  # stale entry: push back with the current degree
+            heapq.heappush(heap, (-int(degree[v]), v))
+            continue
+        cover[v] = True
+        degree[v] = 0
+        for u in c[start[v]:start[v + 1]]:
+            if not cover[u]:
+                degree[u] -= 1
+    return cover
+
+
+def _geodesic_distances(g: sp.csr_array, *, patched_from: int = _PATCHED_FROM,
+                        ball: int = _PATCH_BALL) -> FloatArray:
+    r"""All-pairs shortest path lengths of the symmetric graph ``g``, Dijkstra from a
+    separator only.
+
+    The graph is cut into patches (:func:`_patches`); the separator :math:`S` is a vertex
+    cover of the edges between patches (:func:`_cover`), so that the other vertices fall
+    into components :math:`C` (within one patch each) whose outside neighbours, the
+    boundary :math:`B(C)`, are all in :math:`S`. Dijkstra gives the rows of :math:`S`; a shortest
+    path from :math:`v \in C` either stays in :math:`C` or leaves it first at some
+    :math:`b \in B(C)`, so
+
+    .. math::
+
+       G_{vu} = \min\Bigl(d_C(v, u),\ \min_{b \in B(C)} d_C(v, b) + G_{bu}\Bigr),
+
+    :math:`d_C` the distances inside the small graph on :math:`C \cup B(C)` (:math:`\infty`
+    for :math:`u \notin C`): a min-plus product, :math:`|B|` times :math:`n` per row
+    instead of a Dijkstra. The columns of :math:`S` come from symmetry. Equal to Dijkstra
+    from every vertex up to rounding (sums in another order); a component whose boundary
+    is too wide to pay off joins :math:`S`.
+    """
+    n = g.shape[0]
+    e = g.nnz
+    if n < patched_from or e > _PATCH_MAX_DEGREE * n:
+        return dijkstra(g, directed=True)  # g is symmetric
+    labels = _patches(g, ball)
+    rows = np.repeat(np.arange(n), np.diff(g.indptr))
+    cols = g.indices
+    sep = _cover(n, rows, cols, labels[rows] != labels[cols])
+    inner = np.flatnonzero(~sep)
+    ncomp, comp = connected_components(_induced(g, inner), directed=True, connection="weak")
+    comp_of = np.full(n, -1, dtype=np.int64)
+    comp_of[inner] = comp
+    # each component's boundary: its vertices' neighbours in the separator
+    pairs = np.unique(comp_of[rows] * n + cols)
+    pairs = pairs[(pairs >= 0)]
+    pairs = pairs[sep[pairs % n]]
+    bcomp, bvert = pairs // n, pairs % n
+    bstart = np.searchsorted(bcomp, np.arange(ncomp + 1))
+    # derive a component when |B| * columns beats one Dijkstra per vertex
+    budget = _DERIVE_RATIO * (e + n * math.log2(n))
+    width = np.diff(bstart)
+    derive = width * inner.size <= budget
+    sep[inner[~derive[comp]]] = True
+    inner = np.flatnonzero(~sep)
+    sources = np.flatnonzero(sep)
+    geo = np.empty((n, n))
+    for start in range(0, sources.size, 256):
+        chunk = sources[start:start + 256]
+        geo[chunk] = dijkstra(g, directed=True, indices=chunk)
+    if inner.size == 0:
+        return geo
+    for start in range(0, sources.size, 256):  # the separator's columns: by symmetry
+        chunk = sources[start:start + 256]
+        geo[np.ix_(inner, chunk)] = geo[np.ix_(chunk, inner)].T
+    local = np.full(n, -1, dtype=np.int64)
+    local[inner] = np.arange(inner.size)
+    members = inner[np.argsort(comp_of[inner], kind="stable")]
+    mstart = np.searchsorted(comp_of[members], np.arange(ncomp + 1))
+    m = inner.size
+    for c in np.flatnonzero(derive):
+        part = members[mstart[c]:mstart[c + 1]]
+        bnd = bvert[bstart[c]:bstart[c + 1]]
+        inside = dijkstra(_induced(g, np.concatenate([part, bnd])), directed=True,
+                          indices=np.arange(part.size))
+        out = np.empty((part.size, m))
+        if bnd.size:
+            gb = geo[np.ix_(bnd, inner)]              # (|B|, m)
+            tmp = np.empty((bnd.size, m))
+            to_b = inside[:, part.size:]
+            for i in range(part.size):
+                np.add(gb, to_b[i][:, None], out=tmp)
+                np.minimum.reduce(tmp, axis=0, out=out[i])
+        else:
+            out.fill(np.inf)
+        cc = local[part]
+        out[:, cc] = np.minimum(out[:, cc], inside[:, :part.size])
+        geo[np.ix_(part, inner)] = out
+    return geo
+
+
+def _principal_coordinates(squared: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
+    r"""Classical MDS of the squared distances ``squared`` (read only), as
+    :func:`~algorithms.layout.mds.classical_coordinates`, by a block Krylov (block Lanczos
+    with full reorthogonalisation) method on the operator :math:`B = -\tfrac12 J G J` applied without forming :math:`B`.
+
+    The basis is kept centred, so :math:`B Q = -\tfrac12 J (G Q)`: one pass over :math:`G`
+    (a BLAS-3 product with a block of :math:`k + 6` vectors) per step. Each step:
+    Rayleigh-Ritz on the whole basis; stop when every wanted residual
+    :math:`\lVert B u - \theta u \rVert` is below ``1e-12`` times the largest Ritz value
+    in magnitude; else extend the basis by the next Krylov block (:math:`B` times the last
+    block, orthogonalised). When the basis is full, a thick restart: keep the leading half
+    of the Ritz vectors (no product lost) and go on from the residuals of the leading
+    :math:`k + 6`. Not converged after a budget of steps (or a basis that cannot grow):
+    ARPACK on the explicit matrix. Small problems and large ``k`` (over about ``n / 6``) go
+    to :func:`~algorithms.layout.mds.classical_coordinates`.
+    """
+    with single_blas_thread():  # thin products over a large matrix: memory-bound
+        return _block_krylov(squared, k)
+
+
+def _block_krylov(squared: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
+    """:func:`_principal_coordinates` without the thread limit."""
+    n = squared.shape[0]
+    b = k + 6
+    limit = min(max(_KRYLOV_BASIS, 6 * b), n // 2)
+    if n < 400 or 3 * b > limit:
+        return classical_coordinates(squared, k)
+    idx = np.arange(1, n + 1, dtype=np.float64)
+    q = np.cos(np.outer(idx, np.arange(1, b + 1) * 0.6180339887498949))  # deterministic
+    q -= q.mean(axis=0)
+    v = la.qr(q, mode="economic")[0]
+    av = _centred_product(squared, v)
+    last = b
+    for _ in range(_KRYLOV_STEPS):
+        t = v.T @ av
+        theta, y = la.eigh(0.5 * (t + t.T))
+        order = np.argsort(theta)[::-1]
+        theta, y = theta[order], y[:, order]
+        u, au = v @ y[:, :b], av @ y[:, :b]
+        resid = au - u * theta[:b]
+        scale = max(float(np.abs(theta).max()), np.finfo(float).tiny)
+        if np.linalg.norm(resid[:, :k], axis=0).max() <= _KRYLOV_TOLERANCE * scale:
+            u, theta = u[:, :k], theta[:k]
+            biggest = np.argmax(np.abs(u), axis=0)
+            signs = np.sign(u[biggest, np.arange(k)])
+            signs[signs == 0] = 1.0
+            u = u * signs
+            return np.ascontiguousarray(u * np.sqrt(np.maximum(theta, 0.0))), theta
+        w = av[:, -last:]  # the next Krylov block: B times the last one
+        if v.shape[1] + b > limit:  # thick restart on the leading Ritz vectors
+            keep = limit // 2
+            v, av = v @ y[:, :keep], av @ y[:, :keep]
+            w = resid  # continues their Krylov space
+        size = max(float(np.linalg.norm(w, axis=0).max()), np.finfo(float).tiny)
+        for _ in range(2):  # classical Gram-Schmidt, twice
+            w = w - v @ (v.T @ w)
+        w -= w.mean(axis=0)
+        q, r = la.qr(w, mode="economic")
+        # directions that are mostly rounding (the Krylov space is nearly invariant) would
+        # spoil the orthonormality of the basis: drop them
+        fresh = np.abs(np.diag(r)) > 1e-12 * size
+        if not fresh.any():
+            break
+        q = q[:, fresh]
+        q -= v @ (v.T @ q)
+        q = la.qr(q, mode="economic")[0]
+        last = q.shape[1]
+        v = np.hstack([v, q])
+        av = np.hstack([av, _centred_product(squared, q)])
+    return classical_coordinates(squared, k)  # not converged: ARPACK on the explicit B
+
+
+def _centred_product(squared: FloatArray, q: FloatArray) -> FloatArray:
+    """:math:`-\\tfrac12 J G q` for a centred block ``q`` (so that :math:`Jq = q`), ``G``
+    symmetric: computed as :math:`(q^T G)^T`, which OpenBLAS does about twice as fast as
+    :math:`G q` for a few columns."""
+    p = (np.ascontiguousarray(q.T) @ squared).T
+    p -= p.mean(axis=0)
+    p *= -0.5
+    return p
