@@ -79,6 +79,12 @@ class Settings(BaseSettings):
         "in the service's own threads, skipping the scheduler's ~10 ms round trip. 0: never.",
     )
     fast_path_threads: int = Field(1, ge=1, description="Threads of the fast path.")
+    spool_bytes: int = Field(
+        8 * 2**20,
+        ge=0,
+        description="Multipart bodies of at least this size are written to the data dir "
+        "while they arrive (large uploads are accepted sooner). 0: never.",
+    )
     allowed_failures: int = Field(
         2, ge=0, description="Worker deaths a job may cause before it is marked failed."
     )

@@ -29,6 +29,7 @@ import numpy as np
 
 from algorithms.core.errors import Cancelled, GeometryError
 from service.catalog import lookup
+from service.jobs.spool import load_inputs
 from service.jobs.store import result_path, write_atomic
 from service.problems import geometry_error_problem, problem_body
 
@@ -138,8 +139,7 @@ def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, data
         process = lookup(process_id, test_processes=test_processes)
         if process is None:
             raise LookupError(f"unknown process {process_id!r} on this worker")
-        kwargs = payload if not isinstance(payload, str) else \
-            pickle.loads(Path(payload).read_bytes())
+        kwargs = payload if not isinstance(payload, str) else load_inputs(payload)
         outputs = process.run(kwargs, progress=reporter)
         _check_finite(outputs)
         if persist:

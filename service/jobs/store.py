@@ -41,6 +41,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from service.jobs.spool import Spool, load_inputs, remove_stale
+
 __all__ = ["JobRecord", "JobStore", "ACTIVE", "FINISHED", "write_atomic", "result_path"]
 
 T = TypeVar("T")
@@ -198,6 +200,7 @@ class JobStore:
         self.inline_input_bytes = inline_input_bytes
         for sub in ("results", "inputs"):
             (self.data_dir / sub).mkdir(parents=True, exist_ok=True)
+        remove_stale(self.data_dir / "inputs")
         path = self.data_dir / "jobs.sqlite3"
         # One connection writes, another reads: in WAL mode readers never wait for a commit's
         # fsync, and the event loop only ever reads.
@@ -319,17 +322,25 @@ class JobStore:
     def create(self, *, process: str, inputs: Mapping[str, Any], request: Mapping[str, Any],
                time_limit: float | None, idempotency_key: str | None = None,
                request_hash: str | None = None, owner: str = "", job_id: str | None = None,
-               created: float | None = None) -> JobRecord:
+               created: float | None = None, spool: Spool | None = None,
+               body: Any = None) -> JobRecord:
         """Record a new accepted job with its inputs; durable when this returns.
 
         ``idempotency_key`` is unique per ``owner``: two keys' clients may use the same.
         ``job_id`` and ``created`` are new ones unless given (a job run before its row was
-        written, :meth:`create_finished`)."""
+        written, :meth:`create_finished`). ``spool``: the request ``body`` already on its
+        way to disk, which large inputs (views of it) are sealed into; always consumed."""
         job_id = job_id or str(uuid.uuid4())
         inputs_file = None
         blob: bytes | None = None
-        if _array_bytes(inputs) > self.inline_input_bytes:  # pickled straight into the file:
-            inputs_file = f"inputs/{job_id}.pkl"  # no copy of large arrays as one bytes blob
+        large = _array_bytes(inputs) > self.inline_input_bytes
+        if spool is not None and not large:
+            spool.discard()
+        if large and spool is not None:  # the body is (mostly) on disk already
+            inputs_file = f"inputs/{job_id}.pkl"
+            spool.seal(dict(inputs), body, self.data_dir / inputs_file)
+        elif large:  # pickled straight into the file: no copy of large arrays as one blob
+            inputs_file = f"inputs/{job_id}.pkl"
             write_atomic(self.data_dir / inputs_file, dict(inputs), fsync=self.fsync)
         else:
             blob = pickle.dumps(dict(inputs), protocol=5)
@@ -504,9 +515,13 @@ class JobStore:
     def inputs(self, job: JobRecord) -> dict[str, Any]:
         """The job's validated inputs, as the algorithm's keyword arguments."""
         if job.inputs_file:
-            return pickle.loads((self.data_dir / job.inputs_file).read_bytes())
+            return load_inputs(self.data_dir / job.inputs_file)
         ((blob,),) = self._read("SELECT inputs FROM jobs WHERE id = ?", (job.id,))
         return pickle.loads(blob)
+
+    def spool(self) -> Spool:
+        """A new :class:`Spool` for a request body, in the inputs directory."""
+        return Spool(self.data_dir / "inputs", fsync=self.fsync)
 
     def payload(self, job: JobRecord) -> dict[str, Any] | str:
         """What travels to the worker: small inputs themselves, large ones by file path."""

@@ -23,6 +23,7 @@ from service.geometry_io import (
 )
 from service.jsonio import JSONResponse
 from service.jobs.engine import Engine
+from service.jobs.spool import Spool
 from service.jobs.store import JobRecord, JobStore
 from service.metrics import Metrics
 from service.representation import results_document, status_info
@@ -68,8 +69,9 @@ def get_job(st: State, job_id: str, request: Request) -> JobRecord:
     return job
 
 
-async def read_body(request: Request, limit: int) -> bytearray:
-    """The request body, refused with 413 as soon as it passes ``limit`` bytes."""
+async def read_body(request: Request, limit: int, spool: Spool | None = None) -> bytearray:
+    """The request body, refused with 413 as soon as it passes ``limit`` bytes; each chunk
+    also goes to ``spool`` (written to disk as it arrives) when one is given."""
     declared = request.headers.get("content-length")
     if declared is not None and declared.isdigit() and int(declared) > limit:
         raise ServiceError("payload-too-large",
@@ -81,6 +83,8 @@ async def read_body(request: Request, limit: int) -> bytearray:
             raise ServiceError("payload-too-large", f"The body exceeds the limit of {limit} "
                                "bytes.")
         chunks.append(chunk)
+        if spool is not None:
+            spool.write(chunk)
     # a bytearray: arrays of an uploaded .npy part are views of it, writable, not copies
     return bytearray().join(chunks)
 

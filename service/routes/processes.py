@@ -19,6 +19,7 @@ from algorithms.core.errors import InvalidInputError
 from service.binary import decode_arrays, owned
 from service.catalog import Process, processes
 from service.errors import ServiceError
+from service.jobs.spool import Spool
 from service.jobs.store import JobRecord
 from service.geometry_io import decode_upload, parse_multipart, place_upload, resolve_refs
 from service.jsonio import JSONResponse
@@ -233,13 +234,25 @@ async def execute(processId: str, request: Request) -> Response:  # noqa: N803
         raise ServiceError("unsupported-media-type",
                            f"Expected an application/json or multipart/form-data body, got "
                            f"{ctype!r}; send the header 'Content-Type: application/json'.")
-    raw = await read_body(request, st.settings.max_request_bytes)
+    declared = request.headers.get("content-length", "")
+    spool = st.store.spool() if multipart and st.settings.spool_bytes and declared.isdigit() \
+        and int(declared) >= st.settings.spool_bytes else None
+    try:  # a large upload is written to disk as it arrives; sealed into the job's inputs
+        return await _execute(st, process, request, header, multipart, spool)
+    finally:
+        if spool is not None:
+            spool.discard()  # nothing if it was sealed
+
+
+async def _execute(st: State, process: Process, request: Request, header: str,
+                   multipart: bool, spool: Spool | None) -> Response:
+    raw = await read_body(request, st.settings.max_request_bytes, spool)
     key = request.headers.get("idempotency-key")
     if multipart:
         body, identity = _multipart_body(process, raw, header, st, identify=bool(key))
     else:
         body, identity = _json_body(raw), raw
-    digest = hashlib.sha256(processId.encode() + b"\0" + identity).hexdigest() if key else None
+    digest = hashlib.sha256(process.id.encode() + b"\0" + identity).hexdigest() if key else None
     prefer = parse_prefer(request.headers.getlist("prefer"))
     wanted = Wanted.of(request)  # an Accept the results cannot meet: 406 before any work
 
@@ -274,7 +287,7 @@ async def execute(processId: str, request: Request) -> Response:  # noqa: N803
             if job.active:
                 applied = "respond-async" if applied else None
             return job_response(st, job, outcome, applied, wanted=wanted)
-        job = await st.store.write(st.store.create, **args)
+        job = await st.store.write(st.store.create, **args, spool=spool, body=raw)
     except sqlite3.IntegrityError:  # the same key raced in from another request
         earlier = st.store.by_idempotency_key(key or "", who)
         assert earlier is not None

@@ -1,0 +1,105 @@
+"""The spool: a request body written to disk as it arrives, sealed into an inputs file whose
+arrays are the body's own bytes (no second copy), and read back bit-exact."""
+
+from __future__ import annotations
+
+import io
+import os
+import pickle
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from algorithms.core.mesh import Mesh
+from service.jobs.spool import MAGIC, SYNC_EVERY, Spool, load_inputs, remove_stale
+
+
+def _npy(a: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    np.save(buf, a)
+    return buf.getvalue()
+
+
+def _body_with(arrays: list[np.ndarray], junk: int = 3) -> tuple[bytearray, list[np.ndarray]]:
+    """A body of ``junk`` bytes, then each array's .npy file; and the arrays as views of the
+    body (as an upload's .npy parts are), misaligned when ``junk`` is odd."""
+    body = bytearray(b"x" * junk)
+    offsets = []
+    for a in arrays:
+        f = _npy(a)
+        offsets.append(len(body) + len(f) - a.nbytes)
+        body += f
+    views = [np.frombuffer(body, dtype=a.dtype, count=a.size, offset=o).reshape(a.shape)
+             for a, o in zip(arrays, offsets, strict=True)]
+    return body, views
+
+
+def _spooled(tmp_path: Path, body: bytearray, chunk: int = 65536) -> Spool:
+    spool = Spool(tmp_path, fsync=False)
+    for i in range(0, len(body), chunk):
+        spool.write(bytes(body[i:i + chunk]))
+    return spool
+
+
+def test_views_of_the_body_are_not_written_twice(tmp_path: Path) -> None:
+    rng = np.random.default_rng(0)
+    a, b = rng.normal(size=(20_000, 3)), rng.integers(0, 9, size=(5000, 3))
+    body, (va, vb) = _body_with([a, b])
+    assert not va.flags.aligned  # 3 bytes of junk first
+    extra = rng.normal(size=(1000, 2))  # not in the body: appended
+    inputs = {"source": va, "mesh": Mesh(vertices=extra, faces=vb), "scale": 2.5}
+    target = tmp_path / "job.pkl"
+    _spooled(tmp_path, body).seal(inputs, body, target)
+    size = target.stat().st_size
+    assert len(body) + extra.nbytes <= size < len(body) + extra.nbytes + 4096
+    assert target.read_bytes()[-len(MAGIC):] == MAGIC
+    back = load_inputs(target)
+    assert back["scale"] == 2.5
+    for got, want in ((back["source"], a), (back["mesh"].vertices, extra),
+                      (back["mesh"].faces, b)):
+        assert got.dtype == want.dtype and got.tobytes() == want.tobytes()
+        assert got.flags.writeable and got.flags.aligned  # misaligned ones are copied
+    assert list(tmp_path.glob(".spool-*")) == []
+
+
+def test_a_plain_pickle_still_loads(tmp_path: Path) -> None:
+    path = tmp_path / "old.pkl"
+    a = np.arange(10.0)
+    path.write_bytes(pickle.dumps({"a": a}, protocol=5))
+    assert load_inputs(path)["a"].tobytes() == a.tobytes()
+
+
+def test_discard_and_a_short_body_leave_nothing(tmp_path: Path) -> None:
+    body, (va,) = _body_with([np.arange(3000.0)])
+    spool = _spooled(tmp_path, body)
+    spool.discard()
+    spool.discard()  # twice is harmless
+    assert list(tmp_path.iterdir()) == []
+    short = _spooled(tmp_path, body[:-100])  # the file holds fewer bytes than the body
+    with pytest.raises(RuntimeError, match="spooled"):
+        short.seal({"a": va}, body, tmp_path / "job.pkl")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_large_bodies_are_pushed_to_disk_as_they_come(tmp_path: Path) -> None:
+    a = np.random.default_rng(1).normal(size=(3 * SYNC_EVERY // 8 // 3, 3))
+    body, (va,) = _body_with([a], junk=0)
+    spool = Spool(tmp_path, fsync=True)
+    for i in range(0, len(body), 1 << 20):
+        spool.write(bytes(body[i:i + (1 << 20)]))
+    spool.seal({"a": va}, body, tmp_path / "job.pkl")
+    assert load_inputs(tmp_path / "job.pkl")["a"].tobytes() == a.tobytes()
+
+
+def test_remove_stale_spares_bodies_still_arriving(tmp_path: Path) -> None:
+    old, new = tmp_path / ".spool-old.tmp", tmp_path / ".spool-new.tmp"
+    other = tmp_path / "job.pkl"
+    for p in (old, new, other):
+        p.write_bytes(b"x")
+    hours_ago = time.time() - 7200
+    os.utime(old, (hours_ago, hours_ago))
+    os.utime(other, (hours_ago, hours_ago))
+    assert remove_stale(tmp_path) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".spool-new.tmp", "job.pkl"]
