@@ -125,6 +125,8 @@ def main() -> None:
     parser.add_argument("--big", type=int, default=100_000, help="points of the big run "
                         "(0: skip)")
     args = parser.parse_args()
+    print("threads: ours 1 (numpy/scipy, BLAS limited to 1 inside tsne), openTSNE n_jobs=1, "
+          "scikit-learn OpenMP/BLAS limited to 1")
     print_ratio_table(case_tsne(args.repeats, args.quick), args.repeats)
     if args.big:
         big_run(args.big)

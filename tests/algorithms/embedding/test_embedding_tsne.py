@@ -1,9 +1,13 @@
 """t-SNE: perplexity calibration (entropy = log perplexity), the exact gradient against finite
-differences, the FFT repulsion against the all-pairs sums, agreement with scikit-learn's
+differences, the FFT repulsion against the all-pairs sums, the exact neighbour search
+against a full sort (single-precision screen, ties, double-precision redo), the
+trustworthiness from neighbour lists against scikit-learn's, agreement with scikit-learn's
 TSNE (exact and Barnes–Hut) in trustworthiness and KL, determinism, progress and
 cancellation, and every error branch."""
 
 from __future__ import annotations
+
+import sys
 
 import numpy as np
 import pytest
@@ -12,13 +16,16 @@ from sklearn.manifold import TSNE, trustworthiness
 from threadpoolctl import threadpool_limits
 
 from algorithms.core.errors import Cancelled, InvalidInputError
+from algorithms.embedding import trustworthiness as package_trustworthiness
 from algorithms.embedding import tsne
 from algorithms.embedding._fft_gradients import repulsion_fft
 from algorithms.embedding.tsne import (
     _calibrate,
     _exact_kl_gradient,
+    _nearest_neighbors,
     _row_entropy,
     _SparseAttraction,
+    _trustworthiness,
     affinities,
 )
 
@@ -116,11 +123,64 @@ def test_fft_repulsion_matches_all_pairs(d: int, scale: float, tol: float) -> No
     assert err < tol
 
 
-def test_sparse_attraction_matches_dense() -> None:
+@pytest.mark.parametrize("dim", [3, 20])
+def test_nearest_neighbors_are_exact_and_sorted(dim: int) -> None:
+    # kd-tree (3-D) and BLAS blocks (20-D) against a full sort; coincident points too
+    rng = np.random.default_rng(dim)
+    x = rng.normal(size=(300, dim))
+    x[10] = x[11] = x[12]
+    d2, nbr = _nearest_neighbors(x, 25)
+    full = ((x[:, None, :] - x[None, :, :]) ** 2).sum(-1)
+    np.fill_diagonal(full, np.inf)
+    # the 25 smallest distances of each row, in order, and the points that have them
+    np.testing.assert_allclose(d2, np.sort(full, axis=1)[:, :25], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(np.take_along_axis(full, nbr, axis=1), d2, rtol=1e-12,
+                               atol=1e-12)
+    assert (np.diff(d2, axis=1) >= 0).all() and (nbr != np.arange(300)[:, None]).all()
+    assert all(len(set(row)) == 25 for row in nbr)
+    assert list(nbr[10, :2]) == [11, 12] and d2[10, 0] == d2[10, 1] == 0.0
+
+
+def test_nearest_neighbors_with_many_ties() -> None:
+    # integer points in 12-D: many equal distances at the k-th place, so that the single
+    # precision screen cannot prove its candidates and rows are redone in double
+    x = np.random.default_rng(4).integers(0, 2, size=(400, 12)).astype(float)
+    d2, nbr = _nearest_neighbors(x, 30)
+    full = ((x[:, None, :] - x[None, :, :]) ** 2).sum(-1)
+    np.fill_diagonal(full, np.inf)
+    np.testing.assert_array_equal(d2, np.sort(full, axis=1)[:, :30])
+    np.testing.assert_array_equal(np.take_along_axis(full, nbr, axis=1), d2)
+    assert all(len(set(row)) == 30 for row in nbr)
+
+
+def test_trustworthiness_from_neighbour_lists_matches_sklearn() -> None:
+    # a poor embedding (random), so that many embedded neighbours lie beyond the lists
+    x, _ = make_blobs(400, n_features=10, centers=4, random_state=5)
+    rng = np.random.default_rng(2)
+    for y in (rng.normal(size=(400, 2)), x[:, :2] + 0.3 * rng.normal(size=(400, 2))):
+        for width in (5, 12, 60):
+            d2, nbr = _nearest_neighbors(x, width)
+            for k in (1, 5):
+                assert _trustworthiness(x, y, d2, nbr, k) == pytest.approx(
+                    trustworthiness(x, y, n_neighbors=k), abs=1e-12)
+    # integer inputs: many distances tie with the threshold, decided in double precision;
+    # the same count as the package's own function (rank = 1 + #{strictly closer})
+    xi = np.random.default_rng(5).integers(0, 3, size=(300, 12)).astype(float)
+    yi = rng.normal(size=(300, 2))
+    d2, nbr = _nearest_neighbors(xi, 10)
+    assert _trustworthiness(xi, yi, d2, nbr, 5) == pytest.approx(
+        package_trustworthiness(xi, yi, n_neighbors=5), abs=1e-12)
+
+
+def test_sparse_attraction_matches_dense(monkeypatch: pytest.MonkeyPatch) -> None:
     x = DIGITS[:200]
     p = affinities(x, 10.0, dense=False)
     y = np.random.default_rng(1).normal(size=(200, 2))
     att, plogw = _SparseAttraction(p)(y, True)
+    monkeypatch.setattr(sys.modules["algorithms.embedding.tsne"], "_PAIR_CHUNK", 1000)
+    att_chunks, plogw_chunks = _SparseAttraction(p)(y, True)
+    np.testing.assert_allclose(att_chunks, att, rtol=1e-12, atol=1e-18)
+    assert plogw_chunks == pytest.approx(plogw, rel=1e-12)
     pd = p.toarray()
     diff = y[:, None, :] - y[None, :, :]
     w = 1.0 / (1.0 + (diff ** 2).sum(-1))
