@@ -24,7 +24,9 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.core.types import FloatArray
+from algorithms.core.errors import InvalidInputError
+from algorithms.core.threads import single_blas_thread
+from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_int, as_points
 
 __all__ = ["trustworthiness", "fix_signs", "quality_neighbors"]
@@ -35,6 +37,24 @@ _CHUNK = 256
 _BALL_DIMENSIONS = 16
 #: Most ball members handled at once (memory: a few arrays of this many).
 _BALL_CHUNK = 1 << 22
+#: Cells of a block of the list-based count (8 bytes each).
+_LIST_CELLS = 4_000_000
+
+
+def _score(total: float, n: int, k: int) -> float:
+    """:math:`T(k)` from the sum of ``max(0, r(i, j) - k)``."""
+    return 1.0 - total * 2.0 / (n * k * (2.0 * n - 3.0 * k - 1.0))
+
+
+def _embedded_neighbours(y: FloatArray, k: int) -> IntArray:
+    """Each point's ``k`` nearest neighbours in the embedding, itself excluded (with
+    coincident images it may sit anywhere among the ``k + 1`` found, or not at all)."""
+    n = y.shape[0]
+    _, nbr = cKDTree(y).query(y, k=k + 1)
+    nbr = nbr.reshape(n, k + 1)
+    own = nbr == np.arange(n)[:, None]
+    own[~own.any(axis=1), -1] = True
+    return nbr[~own].reshape(n, k)
 
 
 def quality_neighbors(k: int, n: int) -> int:
@@ -43,7 +63,8 @@ def quality_neighbors(k: int, n: int) -> int:
     return max(0, min(k, (n - 1) // 2))
 
 
-def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> float:
+def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5,
+                    input_neighbours: tuple[Any, Any] | None = None) -> float:
     r"""Trustworthiness of an embedding: are its neighbourhoods true ones?
 
     Parameters
@@ -55,6 +76,11 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
     n_neighbors : int, default 5
         The neighbourhood size ``k``, clipped to ``(n - 1) // 2`` (the formula needs
         ``k < n / 2``).
+    input_neighbours : ((n, w) float array, (n, w) int array), optional
+        The input points' ``w`` nearest neighbours if already known (t-SNE has them):
+        squared distances and indices, itself excluded, each row sorted by distance then
+        index. With ``w >= k`` the ranks are read off these lists where they can be (the
+        same value, without the input's own neighbour search).
 
     Returns
     -------
@@ -66,7 +92,8 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
     Raises
     ------
     InvalidInputError
-        Bad arrays, different numbers of rows, ``n_neighbors < 1``.
+        Bad arrays, different numbers of rows, ``n_neighbors < 1``, neighbour lists of
+        the wrong shape.
 
     Notes
     -----
@@ -94,13 +121,15 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
     k = quality_neighbors(as_int(n_neighbors, name="n_neighbors", minimum=1), n)
     if k < 1:
         return 1.0
-    _, nbr = cKDTree(y).query(y, k=k + 1)
-    nbr = nbr.reshape(n, k + 1)
-    own = nbr == np.arange(n)[:, None]
-    # drop each point itself (with coincident images it may sit anywhere among k + 1)
-    missing = ~own.any(axis=1)
-    own[missing, -1] = True
-    nbr = nbr[~own].reshape(n, k)
+    nbr = _embedded_neighbours(y, k)
+    if input_neighbours is not None:
+        d2, lists = (np.asarray(a) for a in input_neighbours)
+        if d2.shape != lists.shape or d2.ndim != 2 or d2.shape[0] != n:
+            raise InvalidInputError(
+                f"Expected `input_neighbours` to be two ({n}, w) arrays, got shapes "
+                f"{d2.shape} and {lists.shape}.", field="input_neighbours")
+        if lists.shape[1] >= k:
+            return _score(_outsider_ranks_from_lists(x, nbr, d2, lists, k), n, k)
     # only embedded neighbours that are not among the k nearest inputs have rank > k
     tree = cKDTree(x)
     _, true = tree.query(x, k=k + 1)
@@ -110,7 +139,7 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
     if x.shape[1] <= _BALL_DIMENSIONS:
         total = _outsider_ranks_by_tree(x, tree, nbr, member, k, rows.size * n // 2)
         if total is not None:
-            return 1.0 - total * 2.0 / (n * k * (2.0 * n - 3.0 * k - 1.0))
+            return _score(total, n, k)
     sq = np.einsum("ij,ij->i", x, x)
     total = 0.0
     chunk = max(1, min(_CHUNK, 20_000_000 // n))
@@ -125,7 +154,7 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5) -> flo
             if out.any():
                 ranks = 1 + (d[out] < dn[out, c][:, None]).sum(axis=1)
                 total += float(np.maximum(ranks - k, 0).sum())
-    return 1.0 - total * 2.0 / (n * k * (2.0 * n - 3.0 * k - 1.0))
+    return _score(total, n, k)
 
 
 def _outsider_ranks_by_tree(x: FloatArray, tree: cKDTree, nbr: Any, member: Any, k: int,
@@ -181,3 +210,89 @@ def fix_signs(vectors: FloatArray) -> FloatArray:
     signs[signs == 0] = 1.0
     v *= signs
     return v
+
+
+def _outsider_ranks_from_lists(x: FloatArray, emb: IntArray, input_d2: FloatArray,
+                               input_nbr: IntArray, k: int) -> float:
+    r"""The sum of ``max(0, r(i, j) - k)`` over the embedded neighbours ``emb`` (``(n, k)``)
+    with the input's sorted neighbour lists known (squared distances and indices, at least
+    ``k`` wide): a rank :math:`1 + \#\{l : d_{il} < d_{ij}\}` is read off its row of the
+    lists when the neighbour is there, and only rows with an embedded neighbour beyond the
+    list need their distances to all points (in blocks of rows, screened by BLAS estimates
+    with an error bound, :func:`_screen`)."""
+    n = x.shape[0]
+    width = input_nbr.shape[1]
+    total = 0.0
+    # in a sorted row, the entries strictly closer than the one at q: the first q' with
+    # the same distance (ties share the rank of the first)
+    new = np.ones(input_d2.shape, dtype=bool)
+    new[:, 1:] = input_d2[:, 1:] != input_d2[:, :-1]
+    first = np.maximum.accumulate(np.where(new, np.arange(width), 0), axis=1)
+    ranks = np.zeros((n, k), dtype=np.int64)                           # 0: beyond the list
+    step = max(1, _LIST_CELLS // (k * width))
+    for s in range(0, n, step):
+        e = min(n, s + step)
+        hit = emb[s:e, :, None] == input_nbr[s:e, None, :]              # (b, k, width)
+        at = np.take_along_axis(first[s:e], hit.argmax(axis=2), axis=1)
+        ranks[s:e] = np.where(hit.any(axis=2), at + 1, 0)
+    inside = ranks > 0
+    total += float(np.maximum(ranks[inside] - k, 0).sum())
+    far = np.flatnonzero(~inside.all(axis=1))
+    if far.size:
+        # rank = 1 + #{l : d_il < d_ij}, counted on estimates of the distances by BLAS
+        # (in blocks of rows; double precision, so that few fall within the error bound
+        # of the threshold); those that do are decided by their exact distances
+        xc = x - x.mean(axis=0)
+        sq, x32, sq32, slack = _screen(xc, single=False)
+        chunk = max(1, min(far.size, _LIST_CELLS // n))
+        with single_blas_thread():
+            for start in range(0, far.size, chunk):
+                r = far[start:start + chunk]
+                est = x32[r] @ x32.T
+                est *= -2.0
+                est += sq32[None, :]
+                est[np.arange(r.size), r] = np.inf      # a point is not its own neighbour
+                for c in range(k):
+                    out = np.flatnonzero(~inside[r, c])
+                    if out.size == 0:
+                        continue
+                    i, j = r[out], emb[r[out], c]
+                    dij = np.einsum("ij,ij->i", xc[i] - xc[j], xc[i] - xc[j])
+                    t = dij - sq[i]                     # on the estimates' scale
+                    rows_est = est[out]
+                    rows_est[np.arange(out.size), j] = np.inf     # j is not closer than j
+                    lo = (t - slack[i]).astype(est.dtype)[:, None]
+                    hi = (t + slack[i]).astype(est.dtype)[:, None]
+                    below = _count_rows(rows_est < lo)
+                    unsure = np.flatnonzero(_count_rows(rows_est <= hi) > below)
+                    if unsure.size:                     # estimates within the error bound
+                        band = rows_est[unsure]
+                        near_o, near_l = np.nonzero((band >= lo[unsure]) & (band <= hi[unsure]))
+                        near_o = unsure[near_o]
+                        diff = xc[near_l] - xc[i[near_o]]
+                        closer = np.einsum("ij,ij->i", diff, diff) < dij[near_o]
+                        below += np.bincount(near_o[closer], minlength=out.size)
+                    total += float(np.maximum(1 + below - k, 0).sum())
+    return total
+
+
+def _screen(xc: FloatArray, single: bool = True
+            ) -> tuple[FloatArray, np.ndarray, np.ndarray, FloatArray]:
+    r"""For estimates of :math:`e_{ij} = \lVert x_j\rVert^2 - 2 x_i \cdot x_j` (the squared
+    distance less :math:`\lVert x_i\rVert^2`, which ranks row ``i``) in single precision:
+    ``(|x|² in double, x and |x|² in single, slack)``, ``slack[i]`` bounding the error of
+    any estimate in row ``i`` (rounding of the inputs, of the products and of their sums,
+    with a factor 4 of safety). Double precision if not ``single`` or if single would
+    overflow."""
+    sq = np.einsum("ij,ij->i", xc, xc)
+    norms = np.sqrt(sq)
+    top = float(norms.max()) if norms.size else 0.0
+    kind = np.float32 if single and top < 1e18 else np.float64
+    slack = 4.0 * (xc.shape[1] + 2) * float(np.finfo(kind).eps) * (norms * top + top * top)
+    return sq, xc.astype(kind, copy=False), sq.astype(kind, copy=False), slack
+
+
+def _count_rows(mask: np.ndarray) -> IntArray:
+    """``count_nonzero(mask, axis=1)``, by packing the bits and counting them (about twice
+    as fast)."""
+    return np.bitwise_count(np.packbits(mask, axis=1)).sum(axis=1, dtype=np.int64)

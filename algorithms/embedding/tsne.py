@@ -20,7 +20,7 @@ from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray, IntArray, RngLike
 from algorithms.core.validation import as_choice, as_float, as_int, as_points
 from algorithms.embedding._fft_gradients import repulsion_fft
-from algorithms.embedding._quality import fix_signs, quality_neighbors, trustworthiness
+from algorithms.embedding._quality import _screen, fix_signs, trustworthiness
 
 __all__ = ["TSNEResult", "tsne", "METHODS", "INITS", "MAX_EXACT_POINTS", "AUTO_EXACT_BELOW"]
 
@@ -177,28 +177,6 @@ def _nearest_neighbors(x: FloatArray, k: int) -> tuple[FloatArray, IntArray]:
     return d2, nbr
 
 
-def _screen(xc: FloatArray, single: bool = True
-            ) -> tuple[FloatArray, np.ndarray, np.ndarray, FloatArray]:
-    r"""For estimates of :math:`e_{ij} = \lVert x_j\rVert^2 - 2 x_i \cdot x_j` (the squared
-    distance less :math:`\lVert x_i\rVert^2`, which ranks row ``i``) in single precision:
-    ``(|x|² in double, x and |x|² in single, slack)``, ``slack[i]`` bounding the error of
-    any estimate in row ``i`` (rounding of the inputs, of the products and of their sums,
-    with a factor 4 of safety). Double precision if not ``single`` or if single would
-    overflow."""
-    sq = np.einsum("ij,ij->i", xc, xc)
-    norms = np.sqrt(sq)
-    top = float(norms.max()) if norms.size else 0.0
-    kind = np.float32 if single and top < 1e18 else np.float64
-    slack = 4.0 * (xc.shape[1] + 2) * float(np.finfo(kind).eps) * (norms * top + top * top)
-    return sq, xc.astype(kind, copy=False), sq.astype(kind, copy=False), slack
-
-
-def _count_rows(mask: np.ndarray) -> IntArray:
-    """``count_nonzero(mask, axis=1)``, by packing the bits and counting them (about twice
-    as fast)."""
-    return np.bitwise_count(np.packbits(mask, axis=1)).sum(axis=1, dtype=np.int64)
-
-
 def _exact_sorted(xc: FloatArray, rows: IntArray, part: IntArray
                   ) -> tuple[FloatArray, IntArray]:
     """Squared distances from the points ``rows`` to their candidates ``part`` (one row
@@ -247,79 +225,6 @@ def affinities(x: FloatArray, perplexity: float, *, dense: bool) -> FloatArray |
         full[off] = cond.ravel()
         return (full + full.T) / (2.0 * n)
     return _sparse_affinities(x, perplexity)[0]
-
-
-def _trustworthiness(x: FloatArray, y: FloatArray, input_d2: FloatArray,
-                     input_nbr: IntArray, k: int) -> float:
-    r""":func:`~algorithms.embedding._quality.trustworthiness` with the input's sorted
-    neighbour lists already known (squared distances and indices): an embedded
-    neighbour's input rank :math:`1 + \#\{l : d_{il} < d_{ij}\}` is read off its row of
-    the lists when it is there, and only rows with an embedded neighbour beyond the
-    list need their distances to all points (in blocks of rows)."""
-    n = x.shape[0]
-    k = quality_neighbors(k, n)
-    if k < 1:
-        return 1.0
-    width = input_nbr.shape[1]
-    if width < k:
-        return trustworthiness(x, y, n_neighbors=k)
-    _, found = cKDTree(y).query(y, k=k + 1)
-    found = found.reshape(n, k + 1)
-    own = found == np.arange(n)[:, None]
-    own[~own.any(axis=1), -1] = True         # coincident images: self anywhere, or not at all
-    emb = found[~own].reshape(n, k)                                    # (n, k)
-    total = 0.0
-    # in a sorted row, the entries strictly closer than the one at q: the first q' with
-    # the same distance (ties share the rank of the first)
-    new = np.ones(input_d2.shape, dtype=bool)
-    new[:, 1:] = input_d2[:, 1:] != input_d2[:, :-1]
-    first = np.maximum.accumulate(np.where(new, np.arange(width), 0), axis=1)
-    ranks = np.zeros((n, k), dtype=np.int64)                           # 0: beyond the list
-    step = max(1, _KNN_CELLS // (k * width))
-    for s in range(0, n, step):
-        e = min(n, s + step)
-        hit = emb[s:e, :, None] == input_nbr[s:e, None, :]              # (b, k, width)
-        at = np.take_along_axis(first[s:e], hit.argmax(axis=2), axis=1)
-        ranks[s:e] = np.where(hit.any(axis=2), at + 1, 0)
-    inside = ranks > 0
-    total += float(np.maximum(ranks[inside] - k, 0).sum())
-    far = np.flatnonzero(~inside.all(axis=1))
-    if far.size:
-        # rank = 1 + #{l : d_il < d_ij}, counted on estimates of the distances by BLAS
-        # (in blocks of rows; double precision, so that few fall within the error bound
-        # of the threshold); those that do are decided by their exact distances
-        xc = x - x.mean(axis=0)
-        sq, x32, sq32, slack = _screen(xc, single=False)
-        chunk = max(1, min(far.size, _KNN_CELLS // n))
-        with single_blas_thread():
-            for start in range(0, far.size, chunk):
-                r = far[start:start + chunk]
-                est = x32[r] @ x32.T
-                est *= -2.0
-                est += sq32[None, :]
-                est[np.arange(r.size), r] = np.inf      # a point is not its own neighbour
-                for c in range(k):
-                    out = np.flatnonzero(~inside[r, c])
-                    if out.size == 0:
-                        continue
-                    i, j = r[out], emb[r[out], c]
-                    dij = np.einsum("ij,ij->i", xc[i] - xc[j], xc[i] - xc[j])
-                    t = dij - sq[i]                     # on the estimates' scale
-                    rows_est = est[out]
-                    rows_est[np.arange(out.size), j] = np.inf     # j is not closer than j
-                    lo = (t - slack[i]).astype(est.dtype)[:, None]
-                    hi = (t + slack[i]).astype(est.dtype)[:, None]
-                    below = _count_rows(rows_est < lo)
-                    unsure = np.flatnonzero(_count_rows(rows_est <= hi) > below)
-                    if unsure.size:                     # estimates within the error bound
-                        band = rows_est[unsure]
-                        near_o, near_l = np.nonzero((band >= lo[unsure]) & (band <= hi[unsure]))
-                        near_o = unsure[near_o]
-                        diff = xc[near_l] - xc[i[near_o]]
-                        closer = np.einsum("ij,ij->i", diff, diff) < dij[near_o]
-                        below += np.bincount(near_o[closer], minlength=out.size)
-                    total += float(np.maximum(1 + below - k, 0).sum())
-    return 1.0 - total * 2.0 / (n * k * (2.0 * n - 3.0 * k - 1.0))
 
 
 # -- gradients -------------------------------------------------------------------------------
@@ -727,14 +632,12 @@ def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
                            style="sklearn" if method == "exact" else "opentsne")
         kl, _ = gradient(y, 1.0, True)
     y = fix_signs(y)
-    if method == "exact":
-        trust = trustworthiness(x, y, n_neighbors=quality_neighbors)
-    else:
-        trust = _trustworthiness(x, y, input_d2, input_nbr, quality_neighbors)
+    lists = None if method == "exact" else (input_d2, input_nbr)
     return TSNEResult(
         embedding=np.ascontiguousarray(y),
         kl_divergence=float(kl),
-        trustworthiness=trust,
+        trustworthiness=trustworthiness(x, y, n_neighbors=quality_neighbors,
+                                        input_neighbours=lists),
         iterations=done,
         method=method,
     )

@@ -50,3 +50,15 @@ def test_fix_signs_makes_largest_entry_positive() -> None:
     v = np.array([[1.0, -3.0], [-2.0, 1.0]])
     np.testing.assert_array_equal(fix_signs(v), [[-1.0, 3.0], [2.0, -1.0]])
     np.testing.assert_array_equal(fix_signs(-v), fix_signs(v))
+
+
+def test_neighbour_lists_of_the_wrong_shape_are_refused() -> None:
+    x = np.random.default_rng(0).normal(size=(20, 3))
+    with pytest.raises(InvalidInputError, match="input_neighbours") as err:
+        trustworthiness(x, x[:, :2], input_neighbours=(np.zeros((20, 6)), np.zeros((19, 6))))
+    assert err.value.field == "input_neighbours"
+    # lists narrower than k: the value without them
+    d2 = np.zeros((20, 2))
+    nbr = np.zeros((20, 2), dtype=int)
+    assert trustworthiness(x, x[:, :2], n_neighbors=5, input_neighbours=(d2, nbr)) == \
+        trustworthiness(x, x[:, :2], n_neighbors=5)

@@ -25,7 +25,6 @@ from algorithms.embedding.tsne import (
     _nearest_neighbors,
     _row_entropy,
     _SparseAttraction,
-    _trustworthiness,
     affinities,
 )
 
@@ -161,15 +160,15 @@ def test_trustworthiness_from_neighbour_lists_matches_sklearn() -> None:
         for width in (5, 12, 60):
             d2, nbr = _nearest_neighbors(x, width)
             for k in (1, 5):
-                assert _trustworthiness(x, y, d2, nbr, k) == pytest.approx(
-                    trustworthiness(x, y, n_neighbors=k), abs=1e-12)
+                lists = package_trustworthiness(x, y, n_neighbors=k, input_neighbours=(d2, nbr))
+                assert lists == pytest.approx(trustworthiness(x, y, n_neighbors=k), abs=1e-12)
     # integer inputs: many distances tie with the threshold, decided in double precision;
     # the same count as the package's own function (rank = 1 + #{strictly closer})
     xi = np.random.default_rng(5).integers(0, 3, size=(300, 12)).astype(float)
     yi = rng.normal(size=(300, 2))
     d2, nbr = _nearest_neighbors(xi, 10)
-    assert _trustworthiness(xi, yi, d2, nbr, 5) == pytest.approx(
-        package_trustworthiness(xi, yi, n_neighbors=5), abs=1e-12)
+    lists = package_trustworthiness(xi, yi, n_neighbors=5, input_neighbours=(d2, nbr))
+    assert lists == pytest.approx(package_trustworthiness(xi, yi, n_neighbors=5), abs=1e-12)
 
 
 def test_sparse_attraction_matches_dense(monkeypatch: pytest.MonkeyPatch) -> None:
