@@ -207,6 +207,20 @@ def _sparse_affinities(x: FloatArray, perplexity: float
     return p, d2, nbr
 
 
+def _aligned(x: FloatArray) -> FloatArray:
+    """``x`` as a C-contiguous float64 array aligned for its dtype: ``x`` itself when it is
+    one, else a copy.
+
+    The results depend on it: numpy sends ``x @ x.T`` to BLAS ``syrk`` only when both
+    operands are the same aligned buffer, and otherwise copies each operand on its own
+    and calls ``gemm``, whose last bits differ (OpenBLAS, SkylakeX kernels); the descent
+    amplifies a last-bit difference in ``P`` into a different embedding. Inputs that
+    arrive inside a pickle or a network frame (a Dask worker's) are views at any byte
+    offset, so without this the service's answer differed from a local call's.
+    """
+    return np.require(x, dtype=np.float64, requirements=("C_CONTIGUOUS", "ALIGNED"))
+
+
 def affinities(x: FloatArray, perplexity: float, *, dense: bool) -> FloatArray | sp.csr_matrix:
     r"""The symmetric joint affinities :math:`p_{ij} = (p_{j|i} + p_{i|j}) / 2n`.
 
@@ -215,6 +229,7 @@ def affinities(x: FloatArray, perplexity: float, *, dense: bool) -> FloatArray |
     (at least 1) nearest neighbours (exact: :func:`_nearest_neighbors`), a sparse CSR
     matrix summing to 1.
     """
+    x = _aligned(x)                                 # x @ x.T: always syrk (see _aligned)
     n = x.shape[0]
     if dense:
         sq = np.einsum("ij,ij->i", x, x)
@@ -423,8 +438,9 @@ def check_common(points: Any, *, n_components: int, perplexity: float, init: str
                  max_iterations: int, early_exaggeration: float,
                  exaggeration_iterations: int, learning_rate: float | str | None,
                  ) -> tuple[FloatArray, int, float, str, int, float, int, float | None]:
-    """Validation shared by t-SNE and SNE; returns the checked values in order."""
-    x = as_points(points, name="points", min_points=2)
+    """Validation shared by t-SNE and SNE; returns the checked values in order, the points
+    C-contiguous and aligned (:func:`_aligned`)."""
+    x = _aligned(as_points(points, name="points", min_points=2))   # same bits anywhere
     n = x.shape[0]
     k = as_int(n_components, name="n_components", minimum=1)
     perp = as_float(perplexity, name="perplexity", minimum=0.0, inclusive=(False, True))

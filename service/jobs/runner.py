@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from algorithms.core.errors import Cancelled, GeometryError
+from service.binary import owned
 from service.catalog import lookup
 from service.jobs.spool import load_inputs
 from service.jobs.store import result_path, write_atomic
@@ -139,7 +140,10 @@ def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, data
         process = lookup(process_id, test_processes=test_processes)
         if process is None:
             raise LookupError(f"unknown process {process_id!r} on this worker")
-        kwargs = payload if not isinstance(payload, str) else load_inputs(payload)
+        # inputs unpickled (inline ones from the task's frame) are views at any byte offset,
+        # maybe read-only: a method gets aligned, writable arrays, as a local call does
+        # (BLAS takes other paths for misaligned operands, with other last bits)
+        kwargs = owned(payload if not isinstance(payload, str) else load_inputs(payload))
         outputs = process.run(kwargs, progress=reporter)
         _check_finite(outputs)
         if persist:
