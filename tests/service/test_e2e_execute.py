@@ -201,9 +201,10 @@ def test_idempotency_key(http) -> None:
     assert (a.status_code, b.status_code) == (201, 201), (a.text, b.text)
     assert b.headers["location"] == a.headers["location"]
     first = a.json()["jobID"]
-    # a retry that waits gets the first job's results
+    # a retry that waits gets the first job's results (the first may still be queued behind
+    # earlier tests' jobs on a busy machine: 10 s was once too short)
     w = http.post("/processes/alignment.rigid/execution",
-                  headers={"Idempotency-Key": key, "Prefer": "wait=10"}, json=body)
+                  headers={"Idempotency-Key": key, "Prefer": "wait=60"}, json=body)
     assert w.status_code == 200 and w.headers["content-location"] == f"/jobs/{first}/results"
     np.testing.assert_allclose(w.json()["rotation"], R_Z90, atol=1e-12)
     c = http.post("/processes/alignment.rigid/execution", headers=h,
