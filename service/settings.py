@@ -85,6 +85,14 @@ class Settings(BaseSettings):
         description="Multipart bodies of at least this size are written to the data dir "
         "while they arrive (large uploads are accepted sooner). 0: never.",
     )
+    keep_freed_bytes: int = Field(
+        256 * 2**20,
+        ge=0,
+        le=2**31 - 1,
+        description="Freed memory the service keeps mapped for reuse instead of returning it "
+        "to the system at once (glibc's malloc thresholds): a large request body is then "
+        "received into pages already mapped, about twice as fast. 0: glibc's defaults.",
+    )
     allowed_failures: int = Field(
         2, ge=0, description="Worker deaths a job may cause before it is marked failed."
     )

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import platform
 import socket
 import subprocess
 import sys
+
+import pytest
 
 from live import REPO, free_port
 
@@ -51,3 +54,33 @@ def test_listening_socket_is_tcp_so_responses_are_not_delayed() -> None:
         assert asyncio.run(accepted_nodelay()) == 1
     finally:
         sock.close()
+
+
+_FAULTS = """
+import resource, sys
+from service.server import keep_freed_memory
+kept = keep_freed_memory(int(sys.argv[1]))
+faults = lambda: resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+body = bytearray(48 << 20)  # a body's worth of memory, filled and freed
+del body
+before = faults()
+for _ in range(5):
+    body = bytearray(48 << 20)
+    del body
+print(kept, faults() - before)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or platform.libc_ver()[0] != "glibc",
+                    reason="glibc's malloc only")
+def test_freed_memory_is_kept_for_the_next_body() -> None:
+    """With keep_freed_memory, a 48 MB buffer freed and allocated again reuses the pages it
+    had (no page faults); with glibc's defaults each one is mapped and faulted in anew."""
+    counts = {}
+    for keep in (0, 256 * 2**20):
+        done = subprocess.run([sys.executable, "-c", _FAULTS, str(keep)], cwd=REPO,
+                              capture_output=True, text=True, timeout=60, check=True)
+        kept, faults = done.stdout.split()
+        assert kept == str(bool(keep))
+        counts[keep] = int(faults)
+    assert counts[256 * 2**20] < 500 < counts[0]
