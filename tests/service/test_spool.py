@@ -103,3 +103,36 @@ def test_remove_stale_spares_bodies_still_arriving(tmp_path: Path) -> None:
     os.utime(other, (hours_ago, hours_ago))
     assert remove_stale(tmp_path) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == [".spool-new.tmp", "job.pkl"]
+
+
+def test_chunks_are_written_whole_and_in_order_however_the_system_splits_them(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Chunks queued faster than they are written go out together by one writev, which may
+    write less than it was given: what is left is written next, in order."""
+    import service.jobs.spool as spool_module
+
+    real = os.writev
+    calls: list[int] = []
+
+    def stingy(fd: int, buffers: list[memoryview]) -> int:  # at most 1000 bytes a call
+        calls.append(len(buffers))
+        budget, out = 1000, []
+        for buf in buffers:
+            out.append(buf[:budget])
+            budget -= len(out[-1])
+            if not budget:
+                break
+        return real(fd, out)
+
+    monkeypatch.setattr(spool_module.os, "writev", stingy)
+    rng = np.random.default_rng(6)
+    a = rng.normal(size=(4000,))
+    body, (va,) = _body_with([a])
+    spool = Spool(tmp_path, fsync=False)
+    for i in range(0, len(body), 333):
+        spool.write(bytes(body[i:i + 333]))
+    target = tmp_path / "job.pkl"
+    spool.seal({"a": va}, body, target)
+    assert max(calls) > 1  # several chunks in one call
+    assert target.read_bytes()[:len(body)] == bytes(body)
+    assert load_inputs(target)["a"].tobytes() == a.tobytes()
