@@ -25,3 +25,17 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[LiveServer]:
 def http(server: LiveServer):  # noqa: ANN201
     with server.client() as c:
         yield c
+
+
+@pytest.fixture
+def spooling_server(tmp_path: Path) -> Iterator[LiveServer]:
+    """A live server of its own whose every job leaves an inputs file to look at: bodies of
+    1000 bytes and more are spooled, inputs of more than 1000 bytes go to a file, and
+    nothing runs in the service's process."""
+    srv = LiveServer(tmp_path / "data", {
+        "MORPHSERVE_SPOOL_BYTES": "1000", "MORPHSERVE_FAST_PATH_BYTES": "0",
+        "MORPHSERVE_INLINE_INPUT_BYTES": "1000"}).start()
+    try:
+        yield srv
+    finally:
+        srv.stop()

@@ -113,3 +113,22 @@ def test_every_process_is_in_the_methods_table() -> None:
     table = README.read_text().split("## The methods", 1)[1].split("\n## ", 1)[0]
     listed = set(re.findall(r"^\| `([a-z_]+\.[a-z_]+)` \|", table, flags=re.M))
     assert listed == set(registry), (sorted(set(registry) - listed), sorted(listed - set(registry)))
+
+
+def test_every_setting_is_in_the_settings_table() -> None:
+    """The README's table of settings lists exactly the service's settings, each with the
+    default the service really has (sizes in MiB)."""
+    from service.settings import Settings
+
+    table = README.read_text().split("### Settings", 1)[1].split("\n## ", 1)[0]
+    rows = dict(re.findall(r"^\| `MORPHSERVE_([A-Z_]+)` \| ([^|]+) \|", table, flags=re.M))
+    assert set(rows) == {name.upper() for name in Settings.model_fields}
+    for name, field in Settings.model_fields.items():
+        listed, default = rows[name.upper()].strip().strip("`"), field.get_default(
+            call_default_factory=True)
+        if isinstance(default, bool):
+            assert listed == str(default).lower(), name
+        elif isinstance(default, int) and listed.endswith("MiB"):
+            assert default == int(listed.removesuffix(" MiB")) * 2**20, name
+        elif isinstance(default, (int, float)):
+            assert float(listed.replace(",", "")) == default, name

@@ -3,19 +3,23 @@ refer to them.
 
 Accepting a job means its inputs are on disk (fsynced) before the answer. For a 48 MB upload
 the disk write alone takes about as long as receiving the body; done one after the other
-they doubled the time to accept. A :class:`Spool` writes the chunks of a multipart body to a
-temporary file in ``inputs/`` as they arrive, on a thread of its own that takes every chunk
-waiting at once and writes them with one ``writev`` (the GIL is taken once for them all, so
-the thread keeps up with the event loop), and pushes the data to the device every
-:data:`SYNC_EVERY` bytes, so that the final fsync waits only for the tail.
+they doubled the time to accept. A :class:`Spool` writes the chunks of a body to a temporary
+file in ``inputs/`` as they arrive, on a thread of its own that takes every chunk waiting at
+once and writes them with one ``writev`` (the GIL is taken once for them all, so the thread
+keeps up with the event loop), and pushes the data to the device every :data:`SYNC_EVERY`
+bytes, so that the final fsync waits only for the tail.
 
 Once the body is parsed and validated, :meth:`Spool.seal` turns the file into the job's
 inputs file: the inputs are pickled (protocol 5) with their array buffers out of band; a
 buffer that is a view of the body (an ``.npy`` part) is recorded as its place in the file,
-any other is appended. The file then ends with the pickle stream, a table of the buffers'
-``(offset, length)`` and a fixed footer; :func:`load_inputs` reads both this layout and a
-plain pickle. Nothing of a body that fails validation stays behind (:meth:`Spool.discard`),
-and the store removes spool files a crash left (:func:`remove_stale`).
+one decoded from base64 text in the body (a typed binary array) as the place of that text,
+and any other is appended. The file then ends with the pickle stream, a table of the
+buffers (``[offset, length]``, or ``[offset, length, start, size]`` for bytes
+``[start, start + size)`` of the base64 text at ``offset``) and a fixed footer;
+:func:`load_inputs` reads both this layout and a plain pickle. A body of which less than
+half would be kept so is not kept at all. Nothing of a body that fails validation stays
+behind (:meth:`Spool.discard`), and the store removes spool files a crash left
+(:func:`remove_stale`).
 """
 
 from __future__ import annotations
@@ -28,10 +32,12 @@ import struct
 import threading
 import time
 import uuid
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pybase64
 
 __all__ = ["Spool", "load_inputs", "remove_stale", "SYNC_EVERY"]
 
@@ -111,9 +117,16 @@ class Spool:
             self._fd = -1
         self.path.unlink(missing_ok=True)
 
-    def seal(self, inputs: dict[str, Any], body: Any, target: Path) -> None:
+    def seal(self, inputs: dict[str, Any], body: Any, target: Path,
+             encoded: Sequence[tuple[bytearray, int, int]] = ()) -> None:
         """Make the file ``target``, the inputs file of ``inputs``, whose arrays may be views
-        of ``body`` (the bytes that were written); durable when this returns."""
+        of ``body`` (the bytes that were written) or of bytes decoded from base64 text in it
+        (``encoded``: the decoded bytes, and the offset and length of their text); durable
+        when this returns.
+
+        When less than half of the body is kept that way (a body of JSON lists, or of a
+        geometry file whose arrays were parsed from text), the file is emptied first and
+        holds only the inputs: the rest of the body would be dead weight on disk."""
         try:
             self._stop()
             if self._error is not None:
@@ -121,22 +134,33 @@ class Spool:
             base, size = _address(memoryview(body)), len(body)
             if size != self._size:
                 raise RuntimeError(f"spooled {self._size} bytes of a {size}-byte body")
-            table: list[tuple[int, int]] = []
-
-            def place(buffer: pickle.PickleBuffer) -> bool:
+            texts = [(_address(memoryview(raw)), len(raw), at, n) for raw, at, n in encoded]
+            buffers: list[pickle.PickleBuffer] = []
+            stream = pickle.dumps(inputs, protocol=5, buffer_callback=buffers.append)
+            table: list[list[int] | None] = []
+            for buffer in buffers:
                 raw = buffer.raw()
-                at = _address(raw)
-                if raw.nbytes and base <= at and at + raw.nbytes <= base + size:
-                    table.append((at - base, raw.nbytes))  # already in the file
-                else:
+                at, n = _address(raw), raw.nbytes
+                if n and base <= at and at + n <= base + size:
+                    table.append([at - base, n])  # already in the file
+                    continue
+                table.append(next(([text, length, at - start, n]  # decoded from the file
+                                   for start, count, text, length in texts
+                                   if n and start <= at and at + n <= start + count), None))
+            kept = {entry[0]: entry[1] for entry in table if entry is not None}
+            if 2 * sum(kept.values()) < size:
+                os.ftruncate(self._fd, 0)
+                os.lseek(self._fd, 0, os.SEEK_SET)
+                self._size = 0
+                table = [None] * len(buffers)
+            for i, buffer in enumerate(buffers):
+                if table[i] is None:  # appended, aligned
+                    raw = buffer.raw()
                     pad = -self._size % _ALIGN
                     os.write(self._fd, bytes(pad))
-                    table.append((self._size + pad, raw.nbytes))
+                    table[i] = [self._size + pad, raw.nbytes]
                     _write_all(self._fd, raw)
                     self._size += pad + raw.nbytes
-                return False  # out of band
-
-            stream = pickle.dumps(inputs, protocol=5, buffer_callback=place)
             index = json.dumps(table).encode()
             _write_all(self._fd, memoryview(stream))
             _write_all(self._fd, memoryview(index))
@@ -179,7 +203,8 @@ def _write_all(fd: int, view: memoryview) -> None:
 
 def load_inputs(path: Path | str) -> Any:
     """The inputs stored in ``path``: an inputs file sealed from a :class:`Spool` (arrays
-    are views of the file's bytes, copied where misaligned), or a plain pickle."""
+    are views of the file's bytes, copied where misaligned, or decoded from its base64
+    text), or a plain pickle."""
     path = Path(path)
     data = bytearray(path.stat().st_size)
     with open(path, "rb", buffering=0) as f:
@@ -196,8 +221,21 @@ def load_inputs(path: Path | str) -> Any:
     whole = memoryview(data)
     table = json.loads(bytes(whole[end - n_index:end]))
     stream = whole[end - n_index - n_stream:end - n_index]
-    buffers = [whole[at:at + n] if (_address(whole) + at) % 16 == 0
-               else bytearray(whole[at:at + n]) for at, n in table]
+    decoded: dict[tuple[int, int], memoryview] = {}
+    buffers: list[Any] = []
+    for entry in table:
+        at, n = entry[:2]
+        if len(entry) == 4:  # base64 text in the file: its bytes [start, start + n)
+            if (at, n) not in decoded:
+                decoded[at, n] = memoryview(
+                    pybase64.b64decode_as_bytearray(whole[at:at + n], validate=True))
+            source, (at, n) = decoded[entry[0], entry[1]], entry[2:]
+        else:
+            source = whole
+        if (_address(source) + at) % 16 == 0:
+            buffers.append(source[at:at + n])
+        else:
+            buffers.append(bytearray(source[at:at + n]))
     return pickle.loads(stream, buffers=buffers)
 
 

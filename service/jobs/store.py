@@ -34,7 +34,7 @@ import sqlite3
 import threading
 import time
 import uuid
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
@@ -323,13 +323,15 @@ class JobStore:
                time_limit: float | None, idempotency_key: str | None = None,
                request_hash: str | None = None, owner: str = "", job_id: str | None = None,
                created: float | None = None, spool: Spool | None = None,
-               body: Any = None) -> JobRecord:
+               body: Any = None, encoded: Sequence[tuple[bytearray, int, int]] = ()
+               ) -> JobRecord:
         """Record a new accepted job with its inputs; durable when this returns.
 
         ``idempotency_key`` is unique per ``owner``: two keys' clients may use the same.
         ``job_id`` and ``created`` are new ones unless given (a job run before its row was
         written, :meth:`create_finished`). ``spool``: the request ``body`` already on its
-        way to disk, which large inputs (views of it) are sealed into; always consumed."""
+        way to disk, which large inputs (views of it, or ``encoded``: bytes decoded from
+        base64 text in it) are sealed into; always consumed."""
         job_id = job_id or str(uuid.uuid4())
         inputs_file = None
         blob: bytes | None = None
@@ -338,7 +340,7 @@ class JobStore:
             spool.discard()
         if large and spool is not None:  # the body is (mostly) on disk already
             inputs_file = f"inputs/{job_id}.pkl"
-            spool.seal(dict(inputs), body, self.data_dir / inputs_file)
+            spool.seal(dict(inputs), body, self.data_dir / inputs_file, encoded)
         elif large:  # pickled straight into the file: no copy of large arrays as one blob
             inputs_file = f"inputs/{job_id}.pkl"
             write_atomic(self.data_dir / inputs_file, dict(inputs), fsync=self.fsync)

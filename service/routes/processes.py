@@ -16,7 +16,7 @@ from pydantic import ValidationError
 from service import jsonio
 from service.auth import owner_of
 from algorithms.core.errors import InvalidInputError
-from service.binary import decode_arrays, owned
+from service.binary import LIFT_CHARS, Lifted, decode_arrays, lift_base64, owned
 from service.catalog import Process, processes
 from service.errors import ServiceError
 from service.jobs.spool import Spool
@@ -148,8 +148,38 @@ def _fetch_output(st: State, who: str | None) -> Any:
     return fetch
 
 
-def _parse_execute(process: Process, body: Any, st: State,
-                   fetch: Any = None, origin: str = "") -> dict[str, Any]:
+def _lifted_json_body(raw: bytearray) -> tuple[Any, Lifted | None]:
+    """The JSON body, its long base64 strings cut out first (:func:`lift_base64`) when it
+    is long enough to hold any; if what is left does not parse, the body itself is parsed,
+    so that the error is the one it gives."""
+    skeleton, lifted = lift_base64(raw) if len(raw) > LIFT_CHARS else (raw, None)
+    if lifted is not None:
+        try:
+            return jsonio.loads(skeleton), lifted
+        except (ValueError, UnicodeDecodeError):
+            pass
+    return _json_body(raw), None
+
+
+def _parse_lifted(process: Process, body: Any, raw: bytearray, lifted: Lifted | None,
+                  st: State, fetch: Any, origin: str) -> tuple[dict[str, Any], Lifted | None]:
+    """:func:`_parse_execute` of a body whose base64 strings were cut out; if it fails, or
+    a cut-out string was not the data of a typed binary array, the body itself is parsed
+    and executed again, so that what it gives (and any error) is exactly what the body
+    says."""
+    if lifted is not None:
+        try:
+            spec = _parse_execute(process, body, st, fetch, origin, lifted)
+            if lifted.complete:
+                return spec, lifted
+        except (ServiceError, InvalidInputError):
+            pass
+        body = _json_body(raw)
+    return _parse_execute(process, body, st, fetch, origin), None
+
+
+def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
+                   origin: str = "", lifted: Lifted | None = None) -> dict[str, Any]:
     if not isinstance(body, dict):
         raise ServiceError("malformed-body", "Expected a JSON object "
                            '{"inputs": {...}}, got ' + type(body).__name__ + ".")
@@ -168,7 +198,7 @@ def _parse_execute(process: Process, body: Any, st: State,
         inputs = {k: resolve_refs(_unwrap(v), k, fetch, origin) for k, v in inputs.items()}
     try:  # typed binary arrays are decoded first: their errors name the input path
         params = process.params.model_validate(
-            {k: decode_arrays(_unwrap(v), k) for k, v in inputs.items()},
+            {k: decode_arrays(_unwrap(v), k, lifted) for k, v in inputs.items()},
             context={"max_points": st.settings.max_points})
     except ValidationError as exc:
         errors = pydantic_errors(exc.errors())
@@ -235,9 +265,9 @@ async def execute(processId: str, request: Request) -> Response:  # noqa: N803
                            f"Expected an application/json or multipart/form-data body, got "
                            f"{ctype!r}; send the header 'Content-Type: application/json'.")
     declared = request.headers.get("content-length", "")
-    spool = st.store.spool() if multipart and st.settings.spool_bytes and declared.isdigit() \
+    spool = st.store.spool() if st.settings.spool_bytes and declared.isdigit() \
         and int(declared) >= st.settings.spool_bytes else None
-    try:  # a large upload is written to disk as it arrives; sealed into the job's inputs
+    try:  # a large body is written to disk as it arrives; sealed into the job's inputs
         return await _execute(st, process, request, header, multipart, spool)
     finally:
         if spool is not None:
@@ -248,10 +278,12 @@ async def _execute(st: State, process: Process, request: Request, header: str,
                    multipart: bool, spool: Spool | None) -> Response:
     raw = await read_body(request, st.settings.max_request_bytes, spool)
     key = request.headers.get("idempotency-key")
+    lifted = None
     if multipart:
         body, identity = _multipart_body(process, raw, header, st, identify=bool(key))
     else:
-        body, identity = _json_body(raw), raw
+        body, lifted = _lifted_json_body(raw)
+        identity = raw
     digest = hashlib.sha256(process.id.encode() + b"\0" + identity).hexdigest() if key else None
     prefer = parse_prefer(request.headers.getlist("prefer"))
     wanted = Wanted.of(request)  # an Accept the results cannot meet: 406 before any work
@@ -263,7 +295,8 @@ async def _execute(st: State, process: Process, request: Request, header: str,
             return await _answer_existing(st, earlier, digest, prefer, process, wanted)
 
     origin = f"{request.url.scheme}://{request.url.netloc}"
-    spec = _parse_execute(process, body, st, _fetch_output(st, who), origin)
+    spec, lifted = _parse_lifted(process, body, raw, lifted, st, _fetch_output(st, who),
+                                 origin)
     active = st.engine.active
     if active >= st.settings.max_queue:
         raise ServiceError("queue-full", f"{active} jobs are waiting or running; the limit is "
@@ -287,7 +320,8 @@ async def _execute(st: State, process: Process, request: Request, header: str,
             if job.active:
                 applied = "respond-async" if applied else None
             return job_response(st, job, outcome, applied, wanted=wanted)
-        job = await st.store.write(st.store.create, **args, spool=spool, body=raw)
+        job = await st.store.write(st.store.create, **args, spool=spool, body=raw,
+                                   encoded=lifted.decoded if lifted else ())
     except sqlite3.IntegrityError:  # the same key raced in from another request
         earlier = st.store.by_idempotency_key(key or "", who)
         assert earlier is not None

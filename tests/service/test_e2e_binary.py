@@ -5,6 +5,7 @@ name the input path; and the SDK's encoder against the service's decoder."""
 from __future__ import annotations
 
 import base64
+import json
 
 import numpy as np
 import pytest
@@ -135,3 +136,79 @@ def test_owned_copies_views_only() -> None:
         np.testing.assert_array_equal(out[name], src)
     assert out["m"].vertices is mine and out["m"].faces.flags.writeable
     np.testing.assert_array_equal(out["m"].faces, [[0, 1, 2]])
+
+
+def test_large_json_bodies_are_kept_as_sent(spooling_server) -> None:  # noqa: ANN001
+    """A large JSON body is written to disk as it arrives: typed binary arrays stay in the
+    job's inputs file as the base64 text they came as (no second copy of the arrays), JSON
+    lists are not kept beside the arrays parsed from them; the worker reads the same bits,
+    and a body that fails validation leaves nothing."""
+    from algorithms.alignment import rigid
+    from service.jobs.spool import MAGIC
+
+    data = spooling_server.data_dir
+    with spooling_server.client() as c:
+        rng = np.random.default_rng(8)
+        X = rng.normal(size=(5000, 3))
+        Y = X[:, [1, 0, 2]] * [1, -1, 1] + 2.0
+        mine = rigid(X, Y)
+        for inputs, kept in (({"source": b64(X), "target": b64(Y)}, None),
+                             ({"source": X.tolist(), "target": Y.tolist()}, 2 * X.nbytes)):
+            body = json.dumps({"inputs": inputs}).encode()
+            r = c.post("/processes/alignment.rigid/execution", content=body,
+                       headers={"Content-Type": "application/json"})
+            assert r.status_code == 200, r.text
+            np.testing.assert_array_equal(r.json()["rotation"], mine.rotation)
+            np.testing.assert_array_equal(r.json()["translation"], mine.translation)
+            job = r.headers["content-location"].split("/")[2]
+            path = data / "inputs" / f"{job}.pkl"
+            assert path.read_bytes()[-len(MAGIC):] == MAGIC
+            size = kept or len(body)  # the arrays' base64 text, as sent; the arrays
+            assert size <= path.stat().st_size < size + 4096
+        assert len(body) > 2 * X.nbytes + 4096  # the lists were not kept
+        files = sorted((data / "inputs").iterdir())
+        bad = X.copy()
+        bad[7, 1] = np.nan
+        r = _post(c, "alignment.rigid", {"source": b64(bad), "target": b64(Y)})
+        assert r.status_code == 422 and r.json()["errors"][0]["input"] == "source"
+        assert sorted((data / "inputs").iterdir()) == files
+
+
+def _escaped(body: bytes) -> bytes:
+    """The same JSON document with its first 'A' in every string run of them written as an
+    escape: nothing of it is cut out before parsing."""
+    return body.replace(b'"AAAA', b'"\\u0041AAA')
+
+
+@pytest.mark.parametrize("doc", [
+    {"inputs": {"source": GOOD, "target": GOOD}, "data": "A" * 5000},  # unknown member
+    {"inputs": {"source": {"shape": [4], "data": "A" * 5000}, "target": GOOD}},  # no dtype
+    {"inputs": {"source": {"dtype": "<f8", "shape": [4, 3], "data": "A" * 5000},
+                "target": GOOD}},  # too long for its shape
+    {"inputs": {"source": {"dtype": "<f8", "shape": [1000, 3], "data": "A" * 5000 + "!"},
+                "target": GOOD}},  # not base64
+])
+def test_bodies_with_long_strings_get_the_answer_their_document_gets(http, doc: dict) -> None:
+    body = json.dumps(doc).encode()
+    assert _escaped(body) != body
+    r = http.post("/processes/alignment.rigid/execution", content=body,
+                  headers={"Content-Type": "application/json"})
+    same = http.post("/processes/alignment.rigid/execution", content=_escaped(body),
+                     headers={"Content-Type": "application/json"})
+    assert r.status_code == same.status_code == 422, r.text
+    assert r.json() == same.json()
+
+
+def test_base64_with_escaped_slashes_is_read(http) -> None:
+    """JSON writers that escape every slash (PHP's json_encode) send base64 as 'a\\/b'."""
+    rng = np.random.default_rng(9)
+    X = rng.normal(size=(1500, 3))
+    Y = X + [1.0, 2.0, 3.0]
+    body = json.dumps({"inputs": {"source": b64(X), "target": b64(Y)}})
+    assert "/" in body
+    r = http.post("/processes/alignment.rigid/execution",
+                  content=body.replace("/", "\\/").encode(),
+                  headers={"Content-Type": "application/json"})
+    plain = _post(http, "alignment.rigid", {"source": b64(X), "target": b64(Y)})
+    assert r.status_code == plain.status_code == 200, r.text
+    assert r.json() == plain.json()

@@ -200,40 +200,33 @@ def test_per_input_limit_is_413_naming_the_input(tmp_path) -> None:  # noqa: ANN
         srv.stop()
 
 
-def test_spooled_uploads_become_the_inputs_file(tmp_path) -> None:  # noqa: ANN001
+def test_spooled_uploads_become_the_inputs_file(spooling_server) -> None:  # noqa: ANN001
     """A large multipart body is written to disk as it arrives and sealed into the job's
     inputs file (its .npy parts not written twice); the worker reads the same bits. A body
     that fails validation, or one that runs in-process, leaves no file behind."""
-    from live import LiveServer
-
     from algorithms.alignment import rigid
     from service.jobs.spool import MAGIC
 
-    data = tmp_path / "data"
-    srv = LiveServer(data, {"MORPHSERVE_SPOOL_BYTES": "1000", "MORPHSERVE_FAST_PATH_BYTES": "0",
-                            "MORPHSERVE_INLINE_INPUT_BYTES": "1000"}).start()
-    try:
-        with srv.client() as c:
-            rng = np.random.default_rng(3)
-            X = rng.normal(size=(5000, 3))
-            Y = np.ascontiguousarray(X[:, [1, 0, 2]] * [1, -1, 1] + 2.0)  # C order: a view
-            body = {"source": ("a.npy", npy(X), ""), "target": ("b.npy", npy(Y), "")}
-            r = post_multipart(c, "alignment.rigid", body)
-            assert r.status_code == 200, r.text
-            mine = rigid(X, Y)
-            np.testing.assert_array_equal(r.json()["rotation"], mine.rotation)
-            np.testing.assert_array_equal(r.json()["translation"], mine.translation)
-            files = list((data / "inputs").iterdir())
-            assert len(files) == 1 and files[0].read_bytes()[-len(MAGIC):] == MAGIC
-            assert files[0].stat().st_size < 2 * X.nbytes + 4096  # the parts, once
-            bad = X.copy()
-            bad[7, 1] = np.nan
-            r = post_multipart(c, "alignment.rigid", {"source": ("a.npy", npy(bad), ""),
-                                                      "target": ("b.npy", npy(Y), "")})
-            assert r.status_code == 422 and r.json()["errors"][0]["input"] == "source"
-            assert list((data / "inputs").iterdir()) == files
-    finally:
-        srv.stop()
+    data = spooling_server.data_dir
+    with spooling_server.client() as c:
+        rng = np.random.default_rng(3)
+        X = rng.normal(size=(5000, 3))
+        Y = np.ascontiguousarray(X[:, [1, 0, 2]] * [1, -1, 1] + 2.0)  # C order: a view
+        body = {"source": ("a.npy", npy(X), ""), "target": ("b.npy", npy(Y), "")}
+        r = post_multipart(c, "alignment.rigid", body)
+        assert r.status_code == 200, r.text
+        mine = rigid(X, Y)
+        np.testing.assert_array_equal(r.json()["rotation"], mine.rotation)
+        np.testing.assert_array_equal(r.json()["translation"], mine.translation)
+        files = list((data / "inputs").iterdir())
+        assert len(files) == 1 and files[0].read_bytes()[-len(MAGIC):] == MAGIC
+        assert files[0].stat().st_size < 2 * X.nbytes + 4096  # the parts, once
+        bad = X.copy()
+        bad[7, 1] = np.nan
+        r = post_multipart(c, "alignment.rigid", {"source": ("a.npy", npy(bad), ""),
+                                                  "target": ("b.npy", npy(Y), "")})
+        assert r.status_code == 422 and r.json()["errors"][0]["input"] == "source"
+        assert list((data / "inputs").iterdir()) == files
 
 
 # -- inputs by reference ------------------------------------------------------------------

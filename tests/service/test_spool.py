@@ -3,7 +3,9 @@ arrays are the body's own bytes (no second copy), and read back bit-exact."""
 
 from __future__ import annotations
 
+import base64
 import io
+import json
 import os
 import pickle
 import time
@@ -13,6 +15,7 @@ import numpy as np
 import pytest
 
 from algorithms.core.mesh import Mesh
+from service.binary import decode_arrays, lift_base64
 from service.jobs.spool import MAGIC, SYNC_EVERY, Spool, load_inputs, remove_stale
 
 
@@ -103,6 +106,50 @@ def test_remove_stale_spares_bodies_still_arriving(tmp_path: Path) -> None:
     os.utime(other, (hours_ago, hours_ago))
     assert remove_stale(tmp_path) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == [".spool-new.tmp", "job.pkl"]
+
+
+def _json_body(arrays: dict[str, np.ndarray]) -> bytearray:
+    return bytearray(json.dumps({"inputs": {name: {
+        "dtype": a.dtype.str, "shape": list(a.shape),
+        "data": base64.b64encode(a.tobytes()).decode()} for name, a in arrays.items()}},
+        indent=1).encode())
+
+
+def test_arrays_decoded_from_base64_in_the_body_keep_their_text(tmp_path: Path) -> None:
+    """Arrays that came as typed binary arrays (base64 in a JSON body) are sealed as the
+    place of their text in the file: the body is not followed by a second copy of them;
+    a view of part of one is rebuilt from the same text."""
+    rng = np.random.default_rng(4)
+    a, b = rng.normal(size=(30_000, 3)), rng.integers(-5, 5, size=(7000, 3), dtype=np.int32)
+    body = _json_body({"source": a, "faces": b})
+    skeleton, lifted = lift_base64(body)
+    assert lifted is not None and len(lifted.spans) == 2
+    doc = json.loads(skeleton)["inputs"]
+    va, vb = (decode_arrays(doc[k], k, lifted) for k in ("source", "faces"))
+    extra = rng.normal(size=(100, 2))  # not in the body: appended
+    inputs = {"source": va, "mesh": Mesh(vertices=extra, faces=vb), "tail": va[10_000:]}
+    target = tmp_path / "job.pkl"
+    _spooled(tmp_path, body).seal(inputs, body, target, lifted.decoded)
+    assert len(body) + extra.nbytes <= target.stat().st_size < len(body) + extra.nbytes + 4096
+    back = load_inputs(target)
+    for got, want in ((back["source"], a), (back["mesh"].faces, b), (back["tail"], a[10_000:]),
+                      (back["mesh"].vertices, extra)):
+        assert got.dtype == want.dtype and got.shape == want.shape
+        assert got.tobytes() == want.tobytes()
+        assert got.flags.writeable and got.flags.aligned
+
+
+def test_a_body_mostly_not_kept_is_not_kept(tmp_path: Path) -> None:
+    """A body whose arrays were parsed from text (JSON lists here) would sit in the inputs
+    file beside them as dead weight: the file is emptied first and holds the inputs only."""
+    a = np.random.default_rng(5).normal(size=(20_000, 3))
+    body = bytearray(json.dumps({"inputs": {"source": a.tolist()}}).encode())
+    parsed = np.array(json.loads(body)["inputs"]["source"])
+    target = tmp_path / "job.pkl"
+    _spooled(tmp_path, body).seal({"source": parsed}, body, target)
+    assert len(body) > 2 * a.nbytes
+    assert a.nbytes <= target.stat().st_size < a.nbytes + 4096
+    assert load_inputs(target)["source"].tobytes() == a.tobytes()
 
 
 def test_chunks_are_written_whole_and_in_order_however_the_system_splits_them(
