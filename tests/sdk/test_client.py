@@ -873,3 +873,59 @@ def test_the_sdk_imports_neither_service_nor_algorithms() -> None:
 def test_public_names() -> None:
     assert set(morphserve.__all__) <= set(dir(morphserve))
     assert re.fullmatch(r"\d+\.\d+\.\d+.*", morphserve.__version__)
+
+
+class _PieceCounter(httpx.BaseTransport, httpx.AsyncBaseTransport):
+    """Reads each request body piece by piece as httpx hands it to the connection, keeps
+    the whole request in ``server.requests`` and answers that a job was accepted."""
+
+    def __init__(self, server: FakeServer) -> None:
+        self.server = server
+        self.pieces: list[int] = []
+
+    def _answer(self, request: httpx.Request, body: bytes) -> httpx.Response:
+        assert len(body) == int(request.headers["Content-Length"])
+        self.server.requests.append(httpx.Request(request.method, request.url,
+                                                  headers=request.headers, content=body))
+        job = self.server.add_job()
+        return httpx.Response(201, json=self.server.status_info(job),
+                              headers={"Location": f"/jobs/{job}"})
+
+    def handle_request(self, request: httpx.Request) -> httpx.Response:
+        pieces = [bytes(p) for p in request.stream]  # type: ignore[union-attr]
+        self.pieces = [len(p) for p in pieces]
+        return self._answer(request, b"".join(pieces))
+
+    async def handle_async_request(self, request: httpx.Request) -> httpx.Response:
+        pieces = [bytes(p) async for p in request.stream]  # type: ignore[union-attr]
+        self.pieces = [len(p) for p in pieces]
+        return self._answer(request, b"".join(pieces))
+
+
+@pytest.mark.parametrize("kind", ["sync", "async"])
+def test_large_bodies_reach_httpx_in_pieces(server: FakeServer, kind: str,
+                                            monkeypatch: pytest.MonkeyPatch) -> None:
+    """httpcore copies what is left of a piece after every send(): the SDK hands a large
+    body over in pieces of at most PIECE_BYTES, the same bytes and Content-Length."""
+    import asyncio
+
+    from morphserve import AsyncClient
+    from morphserve._client import PIECE_BYTES
+    from morphserve._models import npy_bytes
+
+    monkeypatch.delenv("MORPHSERVE_API_KEY", raising=False)
+    X = np.random.default_rng(0).normal(size=(400_000, 3))  # 9.6 MB: an .npy part
+    transport = _PieceCounter(server)
+    if kind == "sync":
+        with Client("http://morph.test", transport=transport) as client:
+            client.execute("alignment.rigid", source=X, target=[[1.0, 2.0, 3.0]])
+    else:
+        async def main() -> None:
+            async with AsyncClient("http://morph.test", transport=transport) as client:
+                await client.execute("alignment.rigid", source=X, target=[[1.0, 2.0, 3.0]])
+
+        asyncio.run(main())
+    (request,) = server.requests
+    assert request.headers["Content-Type"].startswith("multipart/form-data")
+    assert npy_bytes(X) in request.content
+    assert len(transport.pieces) > 9 and max(transport.pieces) <= PIECE_BYTES
