@@ -74,12 +74,17 @@ class Lifted:
         else of the document holds one of the stand-in strings."""
         return len(self.decoded) == len(self.spans)
 
-    def text(self, data: Any) -> memoryview | None:
-        """The base64 text that the stand-in ``data`` replaced (None if it is none)."""
+    def span(self, data: Any) -> tuple[int, int] | None:
+        """The ``(offset, length)`` of the text that the stand-in ``data`` replaced (None if
+        it is none)."""
         if not isinstance(data, str) or not data.startswith(self.prefix):
             return None
-        offset, length = self.spans[int(data[len(self.prefix):])]
-        return self.body[offset:offset + length]
+        return self.spans[int(data[len(self.prefix):])]
+
+    def text(self, data: Any) -> memoryview | None:
+        """The base64 text that the stand-in ``data`` replaced (None if it is none)."""
+        span = self.span(data)
+        return None if span is None else self.body[span[0]:span[0] + span[1]]
 
 
 def lift_base64(raw: bytes | bytearray, min_chars: int = LIFT_CHARS
@@ -153,9 +158,9 @@ def _decode(obj: dict[str, Any], name: str, lifted: Lifted | None = None) -> np.
             f"Expected {what} to have a shape of 1 to {MAX_NDIM} non-negative integers, got "
             f"{shape!r}.", field=name)
     data = obj["data"]
-    text = lifted.text(data) if lifted is not None else None
-    if text is not None:
-        data = text
+    span = lifted.span(data) if lifted is not None else None
+    if lifted is not None and span is not None:
+        data = lifted.body[span[0]:span[0] + span[1]]
     elif not isinstance(data, str):
         raise InvalidInputError(f"Expected {what} to carry its bytes as a base64 string, got "
                                 f"{type(data).__name__}.", field=name)
@@ -174,8 +179,8 @@ def _decode(obj: dict[str, Any], name: str, lifted: Lifted | None = None) -> np.
         raise InvalidInputError(
             f"Expected {what} of shape {tuple(shape)} and dtype {dtype.str} to hold "
             f"{expected} bytes, got {len(raw)}.", field=name)
-    if text is not None and lifted is not None:
-        lifted.decoded.append((raw, *lifted.spans[int(obj["data"][len(lifted.prefix):])]))
+    if lifted is not None and span is not None:
+        lifted.decoded.append((raw, *span))
     arr = np.frombuffer(raw, dtype=dtype).reshape(shape)  # writable: the bytes are its own
     return arr if dtype.isnative else arr.astype(dtype.newbyteorder("="))
 

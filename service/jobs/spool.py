@@ -157,14 +157,12 @@ class Spool:
                 if table[i] is None:  # appended, aligned
                     raw = buffer.raw()
                     pad = -self._size % _ALIGN
-                    os.write(self._fd, bytes(pad))
                     table[i] = [self._size + pad, raw.nbytes]
-                    _write_all(self._fd, raw)
+                    _writev_all(self._fd, [bytes(pad), raw])
                     self._size += pad + raw.nbytes
             index = json.dumps(table).encode()
-            _write_all(self._fd, memoryview(stream))
-            _write_all(self._fd, memoryview(index))
-            os.write(self._fd, _FOOTER.pack(len(stream), len(index), MAGIC))
+            _writev_all(self._fd, [stream, index,
+                                   _FOOTER.pack(len(stream), len(index), MAGIC)])
             if self.fsync:
                 os.fsync(self._fd)
             os.close(self._fd)
@@ -185,7 +183,9 @@ def _address(view: memoryview) -> int:
     return int(np.frombuffer(view.cast("B"), dtype=np.uint8).ctypes.data) if view.nbytes else 0
 
 
-def _writev_all(fd: int, chunks: list[bytes]) -> None:
+def _writev_all(fd: int, chunks: list[Any]) -> None:
+    """Write all of ``chunks`` (buffers) to ``fd``, in order, however the system splits
+    them."""
     views = [memoryview(c).cast("B") for c in chunks]
     while views:
         written = os.writev(fd, views)
@@ -193,12 +193,6 @@ def _writev_all(fd: int, chunks: list[bytes]) -> None:
             written -= views.pop(0).nbytes
         if views:
             views[0] = views[0][written:]
-
-
-def _write_all(fd: int, view: memoryview) -> None:
-    view = view.cast("B")
-    while view:
-        view = view[os.write(fd, view):]
 
 
 def load_inputs(path: Path | str) -> Any:
