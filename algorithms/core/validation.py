@@ -138,7 +138,9 @@ def as_points(
     min_points: int = 1,
     max_points: int | None = None,
 ) -> FloatArray:
-    """Check a point set and return it as a C-contiguous float64 ``(n, d)`` array.
+    """Check a point set and return it as a C-contiguous, aligned float64 ``(n, d)`` array
+    (a view at an odd byte offset, as unpickled from a network frame, is copied: BLAS
+    takes other paths for misaligned operands, whose last bits differ).
 
     Parameters
     ----------
@@ -197,7 +199,7 @@ def as_points(
             f"point{'s' if max_points != 1 else ''}, got {n}.",
             field=name,
         )
-    out = np.ascontiguousarray(arr, dtype=np.float64)
+    out = np.require(arr, dtype=np.float64, requirements=("C_CONTIGUOUS", "ALIGNED"))
     _check_finite(out, name=name)
     if out.size and max(out.max(), -out.min()) > MAX_COORDINATE:
         row = int(np.argmax(np.abs(out).max(axis=1)))

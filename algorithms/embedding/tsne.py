@@ -438,9 +438,9 @@ def check_common(points: Any, *, n_components: int, perplexity: float, init: str
                  max_iterations: int, early_exaggeration: float,
                  exaggeration_iterations: int, learning_rate: float | str | None,
                  ) -> tuple[FloatArray, int, float, str, int, float, int, float | None]:
-    """Validation shared by t-SNE and SNE; returns the checked values in order, the points
-    C-contiguous and aligned (:func:`_aligned`)."""
-    x = _aligned(as_points(points, name="points", min_points=2))   # same bits anywhere
+    """Validation shared by t-SNE and SNE; returns the checked values in order (the points
+    C-contiguous and aligned, as :func:`as_points` gives them: see :func:`_aligned`)."""
+    x = as_points(points, name="points", min_points=2)
     n = x.shape[0]
     k = as_int(n_components, name="n_components", minimum=1)
     perp = as_float(perplexity, name="perplexity", minimum=0.0, inclusive=(False, True))

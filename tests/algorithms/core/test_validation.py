@@ -45,6 +45,18 @@ def test_as_points_fortran_order_becomes_c_contiguous():
     np.testing.assert_array_equal(out, arr)
 
 
+def test_as_points_misaligned_view_becomes_aligned():
+    """A view at an odd byte offset (as unpickled from a network frame) is copied."""
+    arr = np.arange(12.0).reshape(4, 3)
+    raw = bytearray(1 + arr.nbytes)
+    view = np.frombuffer(raw, dtype=np.float64, count=12, offset=1).reshape(4, 3)
+    view[...] = arr
+    assert not view.flags.aligned
+    out = as_points(view, name="source")
+    assert out.flags.aligned and out.flags.c_contiguous
+    assert out.tobytes() == arr.tobytes()
+
+
 def test_as_points_no_copy_when_already_right():
     arr = np.zeros((4, 3))
     assert as_points(arr, name="source") is arr
