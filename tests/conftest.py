@@ -1,16 +1,10 @@
 from __future__ import annotations
 
-import sys
 from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 
-# tests/ holds `live.py`; appended after the repository root (pytest's `pythonpath`) so that
-# tests/service and tests/algorithms never shadow the real packages.
-sys.path.append(str(Path(__file__).parent))
-
-from live import LiveServer  # noqa: E402
+from tests.live import LiveServer
 
 
 @pytest.fixture(scope="session")

@@ -14,7 +14,7 @@ from typing import Any, TypeVar
 import httpx
 import numpy as np
 import pytest
-from test_client import RESULTS, FakeServer, FakeTerminal, problem  # the sibling module
+from tests.sdk.test_client import RESULTS, FakeServer, FakeTerminal, problem
 
 from morphserve import (
     APIError,

@@ -13,7 +13,7 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
-from live import free_port
+from tests.live import free_port
 from scipy.spatial.transform import Rotation
 
 from morphserve import (

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from live import free_port, wait_for_status
+from tests.live import free_port, wait_for_status
 from scipy.spatial.transform import Rotation
 
 pytestmark = pytest.mark.e2e

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import httpx
 import pytest
-from live import REPO, LiveServer, wait_for_status
+from tests.live import REPO, LiveServer, wait_for_status
 
 from morphserve import Client, NoSuchJob, Unauthorized
 

@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 import pytest
-from live import wait_for_status
+from tests.live import wait_for_status
 from scipy.spatial.transform import Rotation
 
 pytestmark = pytest.mark.e2e

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 import trimesh
-from gltf_check import glb_with, problems, validate
+from tests.gltf_check import glb_with, problems, validate
 from scipy.spatial.transform import Rotation
 
 from service.gltf import read_glb
@@ -182,7 +182,7 @@ def test_glb_declaring_a_huge_buffer_is_refused(http) -> None:  # noqa: ANN001
 
 
 def test_per_input_limit_is_413_naming_the_input(tmp_path) -> None:  # noqa: ANN001
-    from live import LiveServer
+    from tests.live import LiveServer
 
     srv = LiveServer(tmp_path / "data", {"MORPHSERVE_MAX_INPUT_BYTES": "4096"}).start()
     try:

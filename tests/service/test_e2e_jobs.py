@@ -8,7 +8,7 @@ import signal
 import time
 
 import pytest
-from live import wait_for_status
+from tests.live import wait_for_status
 
 pytestmark = pytest.mark.e2e
 

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from live import wait_for_status
+from tests.live import wait_for_status
 
 pytestmark = pytest.mark.e2e
 

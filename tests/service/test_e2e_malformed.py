@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from gltf_check import glb_with
+from tests.gltf_check import glb_with
 
 from service.gltf import mesh_glb
 

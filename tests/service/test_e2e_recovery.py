@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from live import REPO, LiveServer, free_port, wait_for_status
+from tests.live import REPO, LiveServer, free_port, wait_for_status
 from scipy.spatial.transform import Rotation
 
 pytestmark = [pytest.mark.e2e, pytest.mark.slow]

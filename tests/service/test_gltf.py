@@ -11,7 +11,6 @@ from __future__ import annotations
 import io
 import json
 import struct
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,7 +18,7 @@ import trimesh
 from scipy.spatial.distance import pdist
 
 from algorithms.core.errors import InvalidInputError
-from gltf_check import glb_with, validate
+from tests.gltf_check import glb_with, validate
 from service.gltf import (
     check_glb,
     label_colors,

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from live import REPO, LiveServer
+from tests.live import REPO, LiveServer
 
 pytestmark = [pytest.mark.e2e, pytest.mark.slow]
 

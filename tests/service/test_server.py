@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from live import REPO, free_port
+from tests.live import REPO, free_port
 
 
 def test_port_in_use_fails_at_once_with_a_clear_message() -> None:

@@ -9,7 +9,7 @@ import warnings
 import igl
 import numpy as np
 import pytest
-from deformation_meshes import blob, bumpy_sheet, grid, random_rotation, tube
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, random_rotation, tube
 
 from algorithms.core import Cancelled, DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import Mesh

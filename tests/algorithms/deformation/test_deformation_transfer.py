@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from deformation_meshes import blob, bumpy_sheet, grid, random_rotation
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, random_rotation
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.deformation import DeformationTransferResult, deformation_transfer

@@ -6,7 +6,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
-from deformation_meshes import blob, bumpy_sheet, grid, tube
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, tube
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.deformation import HarmonicResult, harmonic, laplacian

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from deformation_meshes import bumpy_sheet, grid
+from tests.algorithms.deformation.deformation_meshes import bumpy_sheet, grid
 
 from algorithms.core import Cancelled, DegenerateInputError, InvalidInputError
 from algorithms.deformation import IsotropicScalingResult, isotropic_scaling

@@ -7,7 +7,7 @@ import igl
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from deformation_meshes import blob, bumpy_sheet, grid
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.core.laplacian import mesh_laplacian

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from deformation_meshes import blob, bumpy_sheet, grid
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import edges

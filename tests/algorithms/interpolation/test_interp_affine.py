@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from interp_meshes import random_rotation, rot2, tet_bar
+from tests.algorithms.interpolation.interp_meshes import random_rotation, rot2, tet_bar
 from scipy.spatial.transform import Rotation, Slerp
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError

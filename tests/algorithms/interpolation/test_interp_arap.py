@@ -8,7 +8,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
-from interp_meshes import bar, bend2, linear_blend_error, roll3, rot2, strip3, tet_bar
+from tests.algorithms.interpolation.interp_meshes import bar, bend2, linear_blend_error, roll3, rot2, strip3, tet_bar
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.laplacian import cotangent_laplacian

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from interp_meshes import bar, bend2, linear_blend_error, roll3, strip3, tet_bar
+from tests.algorithms.interpolation.interp_meshes import bar, bend2, linear_blend_error, roll3, strip3, tet_bar
 
 from algorithms.core.laplacian import cotangent_laplacian
 from algorithms.core.linsolve import PinnedSystem

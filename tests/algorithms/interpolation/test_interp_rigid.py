@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from interp_meshes import random_rotation, rot2, strip3
+from tests.algorithms.interpolation.interp_meshes import random_rotation, rot2, strip3
 from scipy.spatial.transform import Rotation, Slerp
 
 from algorithms.core.errors import InvalidInputError

@@ -6,7 +6,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
-from param_meshes import bumpy, grid
+from tests.algorithms.parameterization.param_meshes import bumpy, grid
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import signed_areas

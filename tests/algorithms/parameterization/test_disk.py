@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
-from param_meshes import grid
+from tests.algorithms.parameterization.param_meshes import grid
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.parameterization import NotADiskError, arap, asap, conformal, harmonic, tutte

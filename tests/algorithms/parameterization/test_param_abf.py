@@ -12,7 +12,7 @@ import igl
 import numpy as np
 import pytest
 import trimesh
-from param_meshes import bumpy, cap, grid
+from tests.algorithms.parameterization.param_meshes import bumpy, cap, grid
 from scipy.optimize import minimize
 
 from algorithms.core.errors import (

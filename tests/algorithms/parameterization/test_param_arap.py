@@ -8,7 +8,7 @@ import warnings
 import igl
 import numpy as np
 import pytest
-from param_meshes import bumpy, cap, grid
+from tests.algorithms.parameterization.param_meshes import bumpy, cap, grid
 
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
 from algorithms.parameterization import arap, asap, conformal

@@ -10,7 +10,7 @@ import warnings
 import igl
 import numpy as np
 import pytest
-from param_meshes import bumpy, grid
+from tests.algorithms.parameterization.param_meshes import bumpy, grid
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.parameterization import NotADiskError, bijective, conformal

@@ -8,7 +8,7 @@ import warnings
 
 import numpy as np
 import pytest
-from param_meshes import bumpy, cap, grid
+from tests.algorithms.parameterization.param_meshes import bumpy, cap, grid
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.parameterization import NotADiskError, stretch_minimizing, tutte

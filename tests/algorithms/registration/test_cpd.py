@@ -9,7 +9,6 @@ from __future__ import annotations
 import sys
 import tracemalloc
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,8 +21,7 @@ from algorithms.registration.cpd import _kernel, _low_rank, _Posterior
 
 cpd_mod = sys.modules["algorithms.registration.cpd"]
 
-sys.path.insert(0, str(Path(__file__).parent))
-from _shapes import angle_deg, bent_bar, blob, move, rotation_about  # noqa: E402
+from tests.algorithms.registration._shapes import angle_deg, bent_bar, blob, move, rotation_about
 
 
 def quiet(*args, **kw) -> CPDResult:  # noqa: ANN002, ANN003

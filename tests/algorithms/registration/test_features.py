@@ -6,8 +6,6 @@ orientation, voxel down-sampling, mutual matching, and the errors."""
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,8 +21,7 @@ from algorithms.registration.features import (
     voxel_downsample,
 )
 
-sys.path.insert(0, str(Path(__file__).parent))
-from _shapes import blob, move, random_rotation  # noqa: E402
+from tests.algorithms.registration._shapes import blob, move, random_rotation
 
 
 def _grid(k: int, h: float = 0.1) -> np.ndarray:

@@ -4,9 +4,7 @@ pass as success, and agreement with trimesh's ICP iteration by iteration."""
 
 from __future__ import annotations
 
-import sys
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +13,7 @@ import trimesh
 from algorithms.core import Cancelled, ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.registration import ICPResult, icp
 
-sys.path.insert(0, str(Path(__file__).parent))
-from _shapes import (  # noqa: E402
+from tests.algorithms.registration._shapes import (
     angle_deg,
     bent_bar,
     blob,

@@ -6,9 +6,7 @@ from __future__ import annotations
 
 import importlib
 import math
-import sys
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,8 +17,7 @@ from algorithms.alignment import rigid
 from algorithms.core import Cancelled, ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.registration import MultiwayResult, multiway
 
-sys.path.insert(0, str(Path(__file__).parent))
-from _shapes import angle_deg, bent_bar, blob, random_rotation  # noqa: E402
+from tests.algorithms.registration._shapes import angle_deg, bent_bar, blob, random_rotation
 
 # the module (the package attribute of the same name is the function)
 mw = importlib.import_module("algorithms.registration.multiway")

@@ -6,9 +6,7 @@ failures, progress and cancellation, and the errors."""
 from __future__ import annotations
 
 import math
-import sys
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,8 +18,7 @@ from algorithms.core import Cancelled, ConvergenceWarning, DegenerateInputError,
 from algorithms.registration import RANSACResult, icp, ransac
 from algorithms.registration.ransac import _kabsch, _needed
 
-sys.path.insert(0, str(Path(__file__).parent))
-from _shapes import angle_deg, blob, move, random_rotation, rotation_about  # noqa: E402
+from tests.algorithms.registration._shapes import angle_deg, blob, move, random_rotation, rotation_about
 
 # Six asymmetric points (the catalog example's): every triple is a distinct triangle.
 SIX = np.array([[0, 0, 0], [2, 0, 0], [0, 1, 0], [0, 0, 0.5], [1, 1, 0.2], [0.5, 0.2, 0.4]])

@@ -77,10 +77,10 @@ def test_multiway_puts_three_views_of_the_airplane_together() -> None:
         assert angle_deg(res.rotations[i], truths[i].inv().as_matrix()) < 1.0
 
 
-import warnings  # noqa: E402
+import warnings
 
-from algorithms.core import ConvergenceWarning  # noqa: E402
-from algorithms.registration import ransac  # noqa: E402
+from algorithms.core import ConvergenceWarning
+from algorithms.registration import ransac
 
 
 @pytest.mark.parametrize("name, seeds", [("airplane.ply", 20), ("ant.ply", 10)])
