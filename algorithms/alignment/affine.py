@@ -4,15 +4,14 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from algorithms.alignment._pairs import Pairs, flat_error, prepare
+from algorithms.core.pairs import Pairs, flat_error, prepare
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
 from algorithms.core.linalg import RANK_RTOL, homogeneous, numerical_rank
+from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_bool
 
 __all__ = ["AffineResult", "affine"]
 
@@ -54,11 +53,12 @@ class AffineResult:
     converged: bool
 
 
+@validate_params
 def affine(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    weights: Any = None,
+    weights: WeightsLike | None = None,
     symmetric: bool = False,
 ) -> AffineResult:
     r"""Find the affine map that best sends ``source`` onto ``target`` (linear least squares).
@@ -115,12 +115,12 @@ def affine(
 
     Notes
     -----
-    **Seed.** The seed document writes the normal-equation form
-    :math:`\tilde Y \tilde X^\mathsf{T} (\tilde X \tilde X^\mathsf{T})^{-1}`; it is the same
-    minimiser, but forming :math:`\tilde X \tilde X^\mathsf{T}` squares the condition
-    number, so the pseudo-inverse is applied through ``lstsq`` instead. Centring first (the
-    seed's second form) keeps the numbers small for data far from the origin and separates
-    the translation exactly.
+    **Least squares without the normal equations.** The minimiser is often written
+    :math:`A = \tilde Y \tilde X^\mathsf{T} (\tilde X \tilde X^\mathsf{T})^{-1}` on the
+    centred points; forming :math:`\tilde X \tilde X^\mathsf{T}` squares the condition
+    number, so the same minimiser is computed by ``lstsq`` (the pseudo-inverse of
+    :math:`\tilde X`) instead. Centring first keeps the numbers small for data far from the
+    origin and separates the translation exactly.
 
     **Degeneracy tolerance.** Singular values of the weighted, centred source at or below
     ``RANK_RTOL = 1e-10`` times the largest count as zero (this is also ``lstsq``'s
@@ -175,7 +175,6 @@ def affine(
     array([ 1., -1.])
     """
     pairs = prepare(source, target, weights, min_dim=1, minimum=_minimum)
-    sym = as_bool(symmetric, name="symmetric")
     d = pairs.d
 
     sp = pairs.sqrt_p()[:, None]
@@ -187,14 +186,14 @@ def affine(
     linear = np.ascontiguousarray(solution.T)
 
     iterations, converged = 0, True
-    if sym:
+    if symmetric:
         linear, iterations, converged = _symmetric_fit(pairs, xs, ys, linear)
     translation = pairs.y_mean - linear @ pairs.x_mean
     return AffineResult(
         transform=homogeneous(linear, translation),
         linear=linear,
         translation=translation,
-        rmse=pairs.linear_rmse(linear, symmetric=sym),
+        rmse=pairs.linear_rmse(linear, symmetric=symmetric),
         iterations=iterations,
         converged=converged,
     )

@@ -5,15 +5,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from algorithms.alignment._pairs import Pairs, flat_error, prepare
+from algorithms.core.pairs import Pairs, flat_error, prepare
 from algorithms.core.errors import DegenerateInputError
 from algorithms.core.linalg import RANK_RTOL, homogeneous, numerical_rank
+from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_bool
 
 __all__ = ["HomographyResult", "homography"]
 
@@ -47,11 +46,12 @@ class HomographyResult:
     rmse: float
 
 
+@validate_params
 def homography(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    weights: Any = None,
+    weights: WeightsLike | None = None,
     symmetric: bool = False,
 ) -> HomographyResult:
     r"""Find the projective map (homography) that sends ``source`` onto ``target``: DLT.
@@ -112,9 +112,10 @@ def homography(
     -----
     **General dimension.** ``P`` has :math:`(d+1)^2 - 1` degrees of freedom and each pair
     gives ``d`` equations, hence at least ``d + 2`` pairs (4 in the plane, 5 in space, 3 on
-    a line: the Möbius maps :math:`x \mapsto (ax + b)/(cx + e)`). The seed document derives
-    the planar case (two rows per pair, a ``2n×9`` system, the right singular vector of the
-    smallest singular value); this is the same derivation for ``d`` rows per pair. For more
+    a line: the Möbius maps :math:`x \mapsto (ax + b)/(cx + e)`). The planar case has
+    two rows per pair, a ``2n×9`` system whose solution is the right singular vector of the
+    smallest singular value; the same derivation gives ``d`` rows per pair in ``d``
+    dimensions. For more
     than :math:`(d+1)^2` rows, ``A`` is first reduced to its ``R`` factor (same singular
     values and right singular vectors), so the SVD is of a :math:`(d+1)^2` square.
 
@@ -156,7 +157,6 @@ def homography(
            [1., 0., 1.]])
     """
     pairs = prepare(source, target, weights, min_dim=1, minimum=_minimum)
-    sym = as_bool(symmetric, name="symmetric")
     d = pairs.d
     for name in ("source", "target"):
         span = pairs.span(name, RANK_RTOL)
@@ -182,7 +182,7 @@ def homography(
 
     forward = _transfer(p, pairs.source, pairs.target, pairs, "source")
     backward = (_transfer(np.linalg.inv(p), pairs.target, pairs.source, pairs, "target")
-                if sym else None)
+                if symmetric else None)
     return HomographyResult(
         transform=p,
         linear=p[:d, :d].copy(),

@@ -5,22 +5,24 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Literal, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.alignment._pairs import flat_error
+from algorithms.core.pairs import flat_error
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, numerical_rank
+from algorithms.core.params import PointsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_bool, as_choice, as_points, same_dim
+from algorithms.core.validation import as_points, same_dim
 
 __all__ = ["PCAResult", "pca", "MODES", "CHOICES", "SCALES"]
 
+Mode = Literal["unoriented", "oriented"]
+Choose = Literal["residual", "rotation"]
+Scale = Literal["anisotropic", "isotropic", "none"]
 #: The accepted values of ``mode``, ``choose`` and ``scale``.
-MODES = ("oriented", "unoriented")
-CHOICES = ("residual", "rotation")
-SCALES = ("none", "isotropic", "anisotropic")
+MODES, CHOICES, SCALES = get_args(Mode), get_args(Choose), get_args(Scale)
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,13 +74,14 @@ class PCAResult:
     reflection: bool
 
 
+@validate_params
 def pca(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    mode: str = "unoriented",
-    choose: str = "residual",
-    scale: str = "anisotropic",
+    mode: Mode = "unoriented",
+    choose: Choose = "residual",
+    scale: Scale = "anisotropic",
     allow_reflection: bool = False,
     symmetric: bool = False,
 ) -> PCAResult:
@@ -87,15 +90,14 @@ def pca(
     Each set is centred and its covariance diagonalised,
     :math:`\frac1n \tilde X^\mathsf{T} \tilde X = E D E^\mathsf{T}` and
     :math:`\frac1m \tilde Y^\mathsf{T} \tilde Y = E' D' E'^\mathsf{T}`, eigenvalues in
-    decreasing order. The axes are paired by that order and the map is (seed document,
-    "correlation alignment")
+    decreasing order. The axes are paired by that order and the map is
 
     .. math::
 
         A = E' S K E^\mathsf{T}, \qquad t = \bar y - A \bar x,
 
     with :math:`S = \operatorname{diag}(\pm 1)` the chosen signs and ``K`` the scale:
-    ``"anisotropic"`` :math:`K = \sqrt{D' D^{-1}}` (the seed's formula), ``"isotropic"``
+    ``"anisotropic"`` :math:`K = \sqrt{D' D^{-1}}`, ``"isotropic"``
     :math:`K = \sqrt{\operatorname{tr} D' / \operatorname{tr} D}\, I`, ``"none"``
     :math:`K = I`. ``rotation`` is :math:`R = E' S E^\mathsf{T}`.
 
@@ -103,8 +105,8 @@ def pca(
 
     - ``"oriented"``: each axis points where the set's third moment along it is positive
       (towards its long tail: the skewness), in both sets; then, if :math:`\det R = -1` and
-      reflections are not allowed, the axis of the smallest eigenvalue is flipped (the seed:
-      "the error grows least").
+      reflections are not allowed, the axis of the smallest eigenvalue is flipped (of all
+      single flips, it increases the residual least).
     - ``"unoriented"``: every sign choice is tried, the :math:`2^{d-1}` proper ones
       (:math:`2^d` with ``allow_reflection``), and ``choose`` picks one: ``"residual"``
       (default) the one of smallest Chamfer distance between the moved source and the
@@ -118,12 +120,18 @@ def pca(
     target : (m, d) float array
         The points to align to; same ``d``, any ``m >= 2``.
     mode : {"unoriented", "oriented"}, default "unoriented"
-        How the signs of the axes are fixed (above).
+        How the signs of the axes are fixed: ``"unoriented"`` tries every proper sign
+        choice of the principal axes and keeps the one ``choose`` prefers; ``"oriented"``
+        points each axis towards its set's skew (third moment) and pairs the axes in order
+        of variance.
     choose : {"residual", "rotation"}, default "residual"
-        With ``mode="unoriented"``, the rule that picks the signs (above); ignored when
-        oriented.
+        With ``mode="unoriented"``, which sign choice is kept: ``"residual"`` the one of
+        least Chamfer distance, ``"rotation"`` the one of smallest rotation angle (largest
+        trace). Ignored when oriented.
     scale : {"anisotropic", "isotropic", "none"}, default "anisotropic"
-        How the source is stretched (above).
+        How the source is stretched: ``"anisotropic"`` each principal axis by the ratio of
+        the two sets' standard deviations along it, ``"isotropic"`` by one factor, the ratio
+        of RMS radii, ``"none"`` not at all (rotate only).
     allow_reflection : bool, default False
         Let ``rotation`` be a reflection when that pairs the axes better.
     symmetric : bool, default False
@@ -151,19 +159,18 @@ def pca(
 
     Notes
     -----
-    **What the seed says differently.**
+    **The smallest rotation has the largest trace.** The angle :math:`\theta` of a rotation
+    satisfies :math:`\operatorname{tr} R = 1 + 2\cos\theta` in 3-D (:math:`2\cos\theta` in
+    2-D; in general the trace falls as the rotation grows). A rule that keeps "the
+    rotation of smallest angle, i.e. of smallest trace" contradicts itself: the smallest
+    angle is the **largest** trace, and that is what ``choose="rotation"`` keeps.
 
-    - *Smallest rotation.* For the unoriented rule the seed asks for "the rotation of the
-      smallest angle, i.e. of the smallest trace(R)". The angle :math:`\theta` of a rotation
-      satisfies :math:`\operatorname{tr} R = 1 + 2\cos\theta` in 3-D (:math:`2\cos\theta` in
-      2-D; in general the trace falls as the rotation grows), so the smallest angle is the
-      **largest** trace; this implementation takes the largest trace.
-    - *Normalised covariances.* The seed writes :math:`C = \tilde X \tilde X^\mathsf{T}`
-      without dividing by the number of points. The two sets may differ in size, and with
-      unnormalised covariances the anisotropic scale :math:`\sqrt{D'D^{-1}}` would be off by
-      :math:`\sqrt{m/n}`; the covariances here are means over each set's points.
-    - *Isotropic and no scale* are not in the seed; they give a similarity or a rigid
-      motion, as ``model`` does elsewhere.
+    **Normalised covariances.** Each covariance is a mean over its own set's points. The
+    unnormalised :math:`\tilde X^\mathsf{T} \tilde X` would make the anisotropic scale
+    :math:`\sqrt{D'D^{-1}}` of sets of ``n`` and ``m`` points off by :math:`\sqrt{m/n}`.
+
+    **Isotropic and no scale** give a similarity or a rigid motion, as ``model`` does in
+    :func:`~algorithms.registration.icp`.
 
     **Ambiguity.** Equal eigenvalues (a set symmetric under some rotation, e.g. a disc)
     leave the axes, and so the answer, undetermined; no error is raised, as a slightly
@@ -178,9 +185,7 @@ def pca(
 
     References
     ----------
-    .. [1] The seed document, section "correlation alignment (principal component
-       analysis)".
-    .. [2] T. Ju, "CSE 554 Lecture 7: Alignment", Washington University in St. Louis
+    .. [1] T. Ju, "CSE 554 Lecture 7: Alignment", Washington University in St. Louis
        (principal-axis alignment and the sign ambiguity).
 
     Examples
@@ -199,17 +204,12 @@ def pca(
     src = as_points(source, name="source", min_dim=2, min_points=2)
     dst = as_points(target, name="target", min_points=2)
     same_dim(src, dst, names=("source", "target"))
-    mode = as_choice(mode, MODES, name="mode")
-    choose = as_choice(choose, CHOICES, name="choose")
-    scale = as_choice(scale, SCALES, name="scale")
-    reflect_ok = as_bool(allow_reflection, name="allow_reflection")
-    sym = as_bool(symmetric, name="symmetric")
     d = src.shape[1]
 
-    full = scale == "anisotropic" or reflect_ok or sym
+    full = scale == "anisotropic" or allow_reflection or symmetric
     if scale == "anisotropic":
         why = "the anisotropic scale divides by every variance"
-    elif reflect_ok:
+    elif allow_reflection:
         why = "a reflection across the flat they span fits equally well"
     else:
         why = "the inverse map that `symmetric=true` needs does not exist"
@@ -230,11 +230,11 @@ def pca(
     det_pair = det(y_axes) * det(x_axes)
     if mode == "oriented":
         signs = np.ones(d)
-        if not reflect_ok and det_pair < 0:
+        if not allow_reflection and det_pair < 0:
             signs[-1] = -1.0  # the smallest variance: the residual grows least
         candidates = [signs]
     else:
-        candidates = _sign_choices(d, det_pair, reflect_ok)
+        candidates = _sign_choices(d, det_pair, allow_reflection)
 
     def linear_of(signs: FloatArray) -> FloatArray:
         return (y_axes * (signs * factors)) @ x_axes.T
@@ -252,7 +252,7 @@ def pca(
 
     forward, _ = tree.query(moved)
     mean_sq = float(forward @ forward) / len(forward)
-    if sym:
+    if symmetric:
         back = np.linalg.solve(linear, yc.T).T + x_mean
         inverse, _ = cKDTree(src).query(back)
         mean_sq = 0.5 * (mean_sq + float(inverse @ inverse) / len(inverse))

@@ -1,23 +1,22 @@
-"""Principal scaling alignment as the seed document states it: M = ỸX̃ᵀ = UΣVᵀ."""
+"""Principal scaling alignment: the cross-covariance map M = ỸX̃ᵀ = UΣVᵀ."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from algorithms.alignment._pairs import one_per_dimension, prepare, rotation_fit
+from algorithms.core.pairs import one_per_dimension, prepare, rotation_fit
 from algorithms.core.linalg import homogeneous
+from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_bool
 
 __all__ = ["PrincipalScalingResult", "principal_scaling"]
 
 
 @dataclass(frozen=True, eq=False)
 class PrincipalScalingResult:
-    """The map ``y ≈ U Σ Vᵀ x + t`` with ``U Σ Vᵀ = Σᵢ wᵢ ỹᵢ x̃ᵢᵀ`` (the seed's conjecture).
+    """The map ``y ≈ U Σ Vᵀ x + t`` with ``U Σ Vᵀ = Σᵢ wᵢ ỹᵢ x̃ᵢᵀ`` (the cross-covariance map).
 
     Attributes
     ----------
@@ -56,20 +55,20 @@ class PrincipalScalingResult:
     reflection: bool
 
 
+@validate_params
 def principal_scaling(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    weights: Any = None,
+    weights: WeightsLike | None = None,
     allow_reflection: bool = False,
     symmetric: bool = False,
 ) -> PrincipalScalingResult:
-    r"""Scale along perpendicular axes, then rotate: the seed's "principal scaling" map.
+    r"""Scale along perpendicular axes, then rotate: the "principal scaling" map.
 
-    Row ``i`` of ``source`` corresponds to row ``i`` of ``target``. The seed document
-    conjectures that the best map of the form :math:`y = U \Sigma V^\mathsf{T} x + t`
-    (``U``, ``V`` orthonormal, :math:`\Sigma \ge 0` diagonal) is given by the
-    cross-covariance itself,
+    Row ``i`` of ``source`` corresponds to row ``i`` of ``target``. The map
+    :math:`y = U \Sigma V^\mathsf{T} x + t` (``U``, ``V`` orthonormal, :math:`\Sigma \ge 0`
+    diagonal) is taken from the cross-covariance itself,
 
     .. math::
 
@@ -78,8 +77,8 @@ def principal_scaling(
 
     with weighted centroids :math:`\bar x, \bar y` and centred points :math:`\tilde x_i,
     \tilde y_i`. This function computes exactly that (the weights enter unnormalised, so
-    that all-ones weights give the seed's :math:`\tilde Y \tilde X^\mathsf{T}`), with the
-    house reflection fix. It is **not** a least-squares fit in general; see Notes.
+    that all-ones weights give :math:`\tilde Y \tilde X^\mathsf{T}`), with the reflection
+    fix of :func:`~algorithms.alignment.rigid`. It is **not** a least-squares fit in general; see Notes.
 
     Parameters
     ----------
@@ -119,7 +118,7 @@ def principal_scaling(
 
     Notes
     -----
-    **When the seed's conjecture holds.** Every ``d×d`` matrix has a singular value
+    **When M is the least-squares map.** Every ``d×d`` matrix has a singular value
     decomposition, so the model :math:`U \Sigma V^\mathsf{T}` is the general linear map and
     its least-squares fit is the affine one, :math:`A = \tilde Y \tilde X^\mathsf{T}
     (\tilde X \tilde X^\mathsf{T})^{-1}` (:func:`~algorithms.alignment.affine`). ``M``
@@ -127,10 +126,10 @@ def principal_scaling(
     \tilde x_i^\mathsf{T} = I`, i.e. for a whitened source (and, without
     ``allow_reflection``, when :math:`\det A \ge 0`). Otherwise ``M`` carries the source's
     second moments along: scaling ``source`` by ``c`` scales ``M`` by ``c`` where the best
-    map scales by ``1/c``, and the residual is larger than the affine one. The seed's
-    reading of :math:`YX^\mathsf{T}` as "divide by X, multiply by Y" is the missing factor
-    :math:`(\tilde X \tilde X^\mathsf{T})^{-1}`. The seed marks the section as unconfirmed
-    ("尚待確認"); the tests check both statements.
+    map scales by ``1/c``, and the residual is larger than the affine one. Reading
+    :math:`\tilde Y \tilde X^\mathsf{T}` as "divide by X, multiply by Y" misses exactly the
+    factor :math:`(\tilde X \tilde X^\mathsf{T})^{-1}`, which whitening makes the identity;
+    the tests check both statements (equality when whitened, a larger residual otherwise).
 
     **Reflection fix** as in :func:`~algorithms.alignment.rigid`
     (:func:`algorithms.core.linalg.procrustes`): with :math:`\det(U V^\mathsf{T}) = -1` the
@@ -141,9 +140,9 @@ def principal_scaling(
 
     References
     ----------
-    .. [1] The seed document, section "principal scaling alignment"; compare S. Umeyama,
-       "Least-squares estimation of transformation parameters between two point patterns",
-       IEEE TPAMI 13(4), 376-380, 1991, for the same cross-covariance in the rigid case.
+    .. [1] S. Umeyama, "Least-squares estimation of transformation parameters between two point patterns",
+       IEEE TPAMI 13(4), 376-380, 1991: the same cross-covariance, whose rotation factor is
+       the rigid fit.
 
     Examples
     --------
@@ -159,10 +158,7 @@ def principal_scaling(
     [3.0, 0.5]
     """
     pairs = prepare(source, target, weights, min_dim=2, minimum=one_per_dimension)
-    reflect_ok = as_bool(allow_reflection, name="allow_reflection")
-    sym = as_bool(symmetric, name="symmetric")
-
-    fit = rotation_fit(pairs, reflect_ok=reflect_ok, invertible=sym)
+    fit = rotation_fit(pairs, reflect_ok=allow_reflection, invertible=symmetric)
     scale = pairs.total * fit.singular_values  # C is normalised; M = (sum of weights) C
     linear = (fit.u * scale) @ fit.vt
     translation = pairs.y_mean - linear @ pairs.x_mean
@@ -173,6 +169,6 @@ def principal_scaling(
         scale=scale,
         axes=np.ascontiguousarray(fit.vt.T),
         translation=translation,
-        rmse=pairs.linear_rmse(linear, symmetric=sym),
+        rmse=pairs.linear_rmse(linear, symmetric=symmetric),
         reflection=bool(fit.reflection),
     )

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
-from algorithms.alignment._pairs import one_per_dimension, prepare, rotation_fit
+from algorithms.core.pairs import one_per_dimension, prepare, rotation_fit
 from algorithms.core.linalg import RANK_RTOL as RANK_RTOL  # re-exported: documented below
 from algorithms.core.linalg import homogeneous
+from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_bool
 
 __all__ = ["RigidResult", "rigid"]
 
@@ -46,11 +45,12 @@ class RigidResult:
     reflection: bool
 
 
+@validate_params
 def rigid(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    weights: Any = None,
+    weights: WeightsLike | None = None,
     allow_reflection: bool = False,
 ) -> RigidResult:
     r"""Find the rotation and translation that best map ``source`` onto ``target``.
@@ -111,10 +111,10 @@ def rigid(
     the matrix ``S`` of his lemma). With ``allow_reflection=True`` the
     determinant is left as it comes and ``reflection`` reports it. Kabsch's 1976 solution
     ranges over all orthogonal matrices and so may return a reflection; his 1978 note added
-    the sign correction, and Umeyama proves the corrected solution optimal. The seed document states the same
-    fix ("flip the sign of the smallest singular value; since the rotation formula does not
-    contain the singular values, flip the corresponding singular vector instead, left or
-    right") and does not correct either paper for this problem. When a reflection fits best
+    the sign correction, and Umeyama proves the corrected solution optimal. Since
+    :math:`R = U D V^\mathsf{T}` does not contain the singular values, negating the
+    smallest one is done by negating its singular vector, left or right (the same
+    rotation). When a reflection fits best
     and the two smallest singular values are equal, the best proper rotation is not unique;
     one of the minimisers is returned.
 
@@ -159,9 +159,7 @@ def rigid(
     array([3., 4.])
     """
     pairs = prepare(source, target, weights, min_dim=2, minimum=one_per_dimension)
-    reflect_ok = as_bool(allow_reflection, name="allow_reflection")
-
-    fit = rotation_fit(pairs, reflect_ok=reflect_ok)
+    fit = rotation_fit(pairs, reflect_ok=allow_reflection)
     rotation = fit.rotation
     translation = pairs.y_mean - rotation @ pairs.x_mean
     return RigidResult(

@@ -3,17 +3,15 @@ translation."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from algorithms.alignment._pairs import Pairs, one_per_dimension, prepare, rotation_fit
+from algorithms.core.pairs import Pairs, one_per_dimension, prepare, rotation_fit
 from algorithms.core.errors import DegenerateInputError
 from algorithms.core.linalg import homogeneous
+from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_bool
 
 __all__ = ["SimilarityResult", "similarity"]
 
@@ -56,11 +54,12 @@ class SimilarityResult:
     reflection: bool
 
 
+@validate_params
 def similarity(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    weights: Any = None,
+    weights: WeightsLike | None = None,
     allow_reflection: bool = False,
     symmetric: bool = False,
 ) -> SimilarityResult:
@@ -127,23 +126,21 @@ def similarity(
 
     Notes
     -----
-    **The scale uses the corrected trace.** The seed document (after Horaud's course notes)
-    writes :math:`s = \operatorname{tr}(\Sigma)/\lVert\tilde X\rVert_F^2`. That is right only
+    **The scale uses the corrected trace.** The scale is often written (e.g. in Horaud's
+    course notes) :math:`s = \operatorname{tr}(\Sigma)/\lVert\tilde X\rVert_F^2`. That is right only
     while :math:`\det(U V^\mathsf{T}) = +1`. When the reflection fix flips the singular vector
     of the smallest singular value, the rotation actually used correlates the sets by
     :math:`\operatorname{tr}(R^\mathsf{T} C) = \operatorname{tr}(D\Sigma) = \sigma_1 + \dots +
     \sigma_{d-1} - \sigma_d`, and the least-squares scale for that rotation is
     :math:`\operatorname{tr}(D\Sigma)/\sigma_x^2`, Umeyama's formula (his eq. 42 with the
     matrix ``S``). The plain trace overestimates the scale by :math:`2\sigma_d/\sigma_x^2`
-    and gives a larger residual; this implementation follows Umeyama and says so here. The
-    seed's aside :math:`s \approx \lVert\tilde Y\rVert_F / \lVert\tilde X\rVert_F` (the scale
+    and gives a larger residual; this implementation follows Umeyama. The shortcut
+    :math:`s \approx \lVert\tilde Y\rVert_F / \lVert\tilde X\rVert_F` (the scale
     trimesh's ``procrustes`` uses) is exact only for noise-free data; in general it is the
     larger of the two (Cauchy–Schwarz) and not the least-squares scale.
 
     **Reflection fix and degeneracy** as in :func:`~algorithms.alignment.rigid`, whose
-    rotation this shares (:func:`algorithms.core.linalg.procrustes`). The seed states the
-    fix the same way ("flip the sign of the smallest singular value; since the rotation
-    formula does not contain the singular values, flip the singular vector instead").
+    rotation this shares (:func:`algorithms.core.linalg.procrustes`).
 
     **Symmetric.** The inverse residual of pair ``i`` is :math:`-e_i / s` rotated, where
     :math:`e_i = s R x_i + t - y_i`, so the objective is
@@ -181,10 +178,7 @@ def similarity(
            [ 2.,  0.]])
     """
     pairs = prepare(source, target, weights, min_dim=2, minimum=one_per_dimension)
-    reflect_ok = as_bool(allow_reflection, name="allow_reflection")
-    sym = as_bool(symmetric, name="symmetric")
-
-    fit = rotation_fit(pairs, reflect_ok=reflect_ok)
+    fit = rotation_fit(pairs, reflect_ok=allow_reflection)
     var_x = pairs.mean_square(pairs.xc)
     trace = float(fit.trace)
     if not trace > SCALE_RTOL * fit.singular_values[0]:
@@ -195,7 +189,7 @@ def similarity(
             "singular values; allow_reflection=true fits it).",
             field=None,
         )
-    scale = _symmetric_scale(pairs, var_x, trace) if sym else trace / var_x
+    scale = _symmetric_scale(pairs, var_x, trace) if symmetric else trace / var_x
 
     rotation = fit.rotation
     linear = scale * rotation
@@ -206,7 +200,7 @@ def similarity(
         rotation=rotation,
         translation=translation,
         scale=scale,
-        rmse=pairs.linear_rmse(linear, symmetric=sym),
+        rmse=pairs.linear_rmse(linear, symmetric=symmetric),
         reflection=bool(fit.reflection),
     )
 

@@ -13,7 +13,7 @@ from scipy.sparse.csgraph import connected_components
 
 from algorithms.clustering._kmeans import canonical_labels
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
-from algorithms.core.graphs import edge_graph, neighbour_graph
+from algorithms.core.graphs import as_graph, edge_graph, neighbour_graph
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_float, as_int, as_points
@@ -211,7 +211,6 @@ def _adjacency(points: Any, graph: Any, **kw: Any) -> sp.csr_array:
     if points is not None:
         x = as_points(points, name="points", min_points=2)
         return neighbour_graph(x, **kw)
-    from algorithms.layout import as_graph  # the graph input shared with the layouts
 
     g = as_graph(graph, name="graph")
     w = None if g.weights is None else g.weights

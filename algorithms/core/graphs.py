@@ -6,6 +6,8 @@ points) so that :func:`weight` can turn lengths into weights afterwards; zero le
 (coincident points) are stored explicitly, never dropped, so the structure is always the
 edge set.
 
+* :class:`Graph` / :func:`as_graph` — a graph given as data: a node count, an edge list and
+  optional edge weights, as JSON delivers it (layouts, Markov clustering);
 * :func:`edge_graph` — from an explicit edge list (a mesh's :func:`~algorithms.core.mesh.edges`);
 * :func:`knn_graph` — each point to its ``k`` nearest others, symmetrised by union or
   mutual agreement (a kd-tree: :class:`scipy.spatial.cKDTree`);
@@ -22,6 +24,8 @@ Then :func:`algorithms.core.laplacian.laplacian` gives ``L = D - W``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -31,9 +35,18 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist, squareform
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.validation import as_choice, as_float, as_indices, as_int, as_points
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import (
+    as_choice,
+    as_float,
+    as_indices,
+    as_int,
+    as_points,
+    as_weights,
+    fmt_shape,
+)
 
-__all__ = ["edge_graph", "knn_graph", "radius_graph", "weight", "graph_from_pairs",
+__all__ = ["Graph", "as_graph", "edge_graph", "knn_graph", "radius_graph", "weight", "graph_from_pairs",
            "neighbour_graph", "check_n_neighbors", "check_connected", "NEIGHBORS",
            "WEIGHTINGS", "MAX_COMPLETE"]
 
@@ -43,6 +56,113 @@ WEIGHTINGS = ("uniform", "distance", "heat")
 
 #: Most points for ``neighbors="all"`` (a dense ``n×n`` graph: 10,000 points, 800 MB).
 MAX_COMPLETE = 10_000
+
+
+
+@dataclass(frozen=True, eq=False)
+class Graph:
+    """A graph on ``n_nodes`` nodes given by its edges.
+
+    Build one with :func:`as_graph`, which checks it; the constructor does not.
+
+    Attributes
+    ----------
+    n_nodes : int
+        Number of nodes, numbered ``0 .. n_nodes - 1``.
+    edges : (e, 2) int array
+        One row ``(i, j)`` per edge, in the order and orientation given (``layout.poisson``
+        matches its vectors to ``p_i - p_j`` of each row).
+    weights : (e,) float array or None
+        One non-negative number per edge, or ``None`` for all ones. Spring stiffness in
+        ``layout.laplacian`` and ``layout.poisson``; edge length in ``layout.stress``.
+    """
+
+    n_nodes: int
+    edges: IntArray
+    weights: FloatArray | None = None
+
+    def __repr__(self) -> str:
+        return f"Graph(n_nodes={self.n_nodes}, n_edges={self.edges.shape[0]})"
+
+
+def as_graph(graph: Any, *, name: str = "graph", max_nodes: int | None = None,
+             positive_weights: bool = False) -> Graph:
+    """Check a graph and return it as a :class:`Graph`.
+
+    Parameters
+    ----------
+    graph : Graph or mapping
+        A :class:`Graph`, or a mapping with keys ``"nodes"`` (the node count, an integer
+        ``>= 1``), ``"edges"`` (``(e, 2)`` node indices) and optionally ``"weights"``
+        (``(e,)`` non-negative numbers), as JSON delivers it.
+    name : str, default "graph"
+        Errors name ``{name}.nodes``, ``{name}.edges`` or ``{name}.weights``.
+    max_nodes : int, optional
+        Most nodes accepted (the service's size limit).
+    positive_weights : bool, default False
+        Demand weights ``> 0`` (edge lengths) instead of ``>= 0``.
+
+    Raises
+    ------
+    InvalidInputError
+        Not such a mapping, a node count that is not a positive integer, edges not ``(e, 2)``
+        integers in ``[0, nodes)``, an edge joining a node to itself, weights not one
+        finite non-negative (positive) number per edge.
+    """
+    nname, ename, wname = f"{name}.nodes", f"{name}.edges", f"{name}.weights"
+    if isinstance(graph, Graph):
+        nodes, edges, weights = graph.n_nodes, graph.edges, graph.weights
+    elif isinstance(graph, Mapping):
+        missing = [k for k in ("nodes", "edges") if k not in graph]
+        extra = sorted(str(k) for k in graph if k not in ("nodes", "edges", "weights"))
+        if missing or extra:
+            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
+                    else f"unknown key {', '.join(repr(k) for k in extra)}")
+            raise InvalidInputError(
+                f"Expected `{name}` to be an object with keys 'nodes', 'edges' and optionally "
+                f"'weights', got {what}.", field=name)
+        nodes, edges, weights = graph["nodes"], graph["edges"], graph.get("weights")
+    else:
+        raise InvalidInputError(
+            f"Expected `{name}` to be an object with keys 'nodes', 'edges' and optionally "
+            f"'weights', got {type(graph).__name__}.", field=name)
+    n = as_int(nodes, name=nname, minimum=1, maximum=max_nodes,
+               reason="the service's limit" if max_nodes is not None else "")
+    try:
+        shape = np.shape(edges)
+    except (ValueError, TypeError):
+        shape = None
+    if shape is not None and not (len(shape) == 2 and shape[1] == 2) and shape != (0,):
+        raise InvalidInputError(
+            f"Expected `{ename}` to be an (e, 2) array of node indices, got shape "
+            f"{fmt_shape(shape)}.", field=ename)
+    e = as_indices(edges, n, name=ename, what="node indices").reshape(-1, 2)
+    loops = e[:, 0] == e[:, 1]
+    if loops.any():
+        row = int(np.argmax(loops))
+        raise InvalidInputError(
+            f"Expected `{ename}` to join two distinct nodes per edge, got {e[row].tolist()} "
+            f"at row {row}.", field=ename)
+    w = None
+    if weights is not None:
+        try:
+            wshape = np.shape(weights)
+        except (ValueError, TypeError):
+            wshape = None
+        if wshape is not None and len(wshape) != 1:
+            raise InvalidInputError(
+                f"Expected `{wname}` to be a flat list of one number per edge, got shape "
+                f"{fmt_shape(wshape)}.", field=wname)
+        if e.shape[0] == 0 and wshape == (0,):
+            w = np.zeros(0)
+        else:
+            w = as_weights(weights, e.shape[0], name=wname)
+        if positive_weights and (w <= 0).any():
+            row = int(np.argmax(w <= 0))
+            raise InvalidInputError(
+                f"Expected `{wname}` to be positive (edge lengths), got {float(w[row])!r} at "
+                f"position {row}.", field=wname)
+    return Graph(n, e, w)
 
 
 def graph_from_pairs(n: int, i: Any, j: Any, data: Any) -> sp.csr_array:

@@ -35,6 +35,7 @@ __all__ = [
     "Handles",
     "as_mesh",
     "as_handles",
+    "read_mesh",
     "edges",
     "boundary_edges",
     "boundary_loops",
@@ -226,6 +227,29 @@ def as_mesh(
                 f"Expected `{fname}` to have non-zero area, got a degenerate (zero-area) face "
                 f"{f[row].tolist()} at row {row}{more}.", field=fname)
     return Mesh(v, f)
+
+
+def read_mesh(mesh: Any, *, name: str = "mesh") -> Mesh:
+    """A checked :class:`Mesh` from a ``Mesh``, a mapping with the keys ``vertices`` and
+    ``faces`` (as JSON delivers it) or a ``(vertices, faces)`` pair; checked by
+    :func:`as_mesh` (a ``Mesh`` is checked again: its constructor does not check)."""
+    if isinstance(mesh, Mesh):
+        return as_mesh(mesh.vertices, mesh.faces, name=name)
+    if isinstance(mesh, Mapping):
+        missing = [k for k in ("vertices", "faces") if k not in mesh]
+        extra = sorted(str(k) for k in mesh if k not in ("vertices", "faces"))
+        if missing or extra:
+            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
+                    else f"an unknown key {', '.join(repr(k) for k in extra)}")
+            raise InvalidInputError(
+                f"Expected `{name}` to be an object with keys 'vertices' and 'faces', got "
+                f"{what}.", field=name)
+        return as_mesh(mesh["vertices"], mesh["faces"], name=name)
+    if isinstance(mesh, (tuple, list)) and len(mesh) == 2:
+        return as_mesh(mesh[0], mesh[1], name=name)
+    raise InvalidInputError(
+        f"Expected `{name}` to be a mesh (vertices and faces), got {type(mesh).__name__}.",
+        field=name)
 
 
 def as_handles(handles: Any, mesh: Mesh | int | None, *, name: str = "handles") -> Handles:

@@ -1,10 +1,10 @@
-"""What every alignment with known correspondences shares: checking the paired input,
-weighted centring, the residual figures, and the errors for flat point sets.
+"""Paired point sets (row ``i`` of ``source`` with row ``i`` of ``target``): checking them,
+weighted centring, the residual figures, the rotation fit and the errors for flat sets.
 
-Private to the family: the public functions (``rigid``, ``similarity``, ``affine``, ...)
-validate through :func:`prepare` and report through :meth:`Pairs.rmse`, so that the same
-input gives the same message and the same ``rmse`` definition in every method (``pca``,
-which has no pairs, shares only :func:`flat_error`).
+Every alignment with known correspondences (``rigid``, ``similarity``, ``affine``, ...)
+validates through :func:`prepare` and reports through :meth:`Pairs.rmse`, so that the same
+input gives the same message and the same ``rmse`` definition in every method; ICP fits its
+correspondences of each iteration through :func:`trusted_pairs` and :func:`rotation_fit`.
 """
 
 from __future__ import annotations

@@ -43,12 +43,16 @@ __all__ = [
     "check_min_points",
     "same_shape",
     "same_dim",
+    "fmt_shape",
+    "MAX_DENSE_POINTS",
+    "check_dense_size",
 ]
 
 _NUMERIC_KINDS = "iuf"  # signed, unsigned, floating; bool and complex are rejected
 
 
-def _fmt_shape(shape: tuple[int, ...]) -> str:
+def fmt_shape(shape: tuple[int, ...]) -> str:
+    """A shape as messages write it: ``(5, 2)``, ``(3,)``."""
     return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
 
 
@@ -172,19 +176,19 @@ def as_points(
     arr = _as_numeric_array(x, name=name, expected=expected)
     if arr.ndim != 2:
         raise InvalidInputError(
-            f"Expected `{name}` to be {expected}, got shape {_fmt_shape(arr.shape)}.",
+            f"Expected `{name}` to be {expected}, got shape {fmt_shape(arr.shape)}.",
             field=name,
         )
     n, d = arr.shape
     if dim is not None and d != dim:
         raise InvalidInputError(
-            f"Expected `{name}` to be {expected}, got shape {_fmt_shape(arr.shape)}.",
+            f"Expected `{name}` to be {expected}, got shape {fmt_shape(arr.shape)}.",
             field=name,
         )
     if d < max(min_dim, 1):
         raise InvalidInputError(
             f"Expected `{name}` to be an (n, d) array with d >= {max(min_dim, 1)} "
-            f"coordinates per point, got shape {_fmt_shape(arr.shape)}.",
+            f"coordinates per point, got shape {fmt_shape(arr.shape)}.",
             field=name,
         )
     if n < min_points:
@@ -240,7 +244,7 @@ def same_shape(a: np.ndarray, b: np.ndarray, *, names: tuple[str, str]) -> None:
         if a.shape[1] != b.shape[1]:
             msg = (
                 f"Expected `{second}` to have the same dimension as `{first}` "
-                f"({a.shape[1]}), got shape {_fmt_shape(b.shape)}."
+                f"({a.shape[1]}), got shape {fmt_shape(b.shape)}."
             )
         else:
             msg = (
@@ -250,7 +254,7 @@ def same_shape(a: np.ndarray, b: np.ndarray, *, names: tuple[str, str]) -> None:
     else:
         msg = (
             f"Expected `{second}` to have the same shape as `{first}`, "
-            f"{_fmt_shape(a.shape)}, got {_fmt_shape(b.shape)}."
+            f"{fmt_shape(a.shape)}, got {fmt_shape(b.shape)}."
         )
     raise InvalidInputError(msg, field=second)
 
@@ -264,7 +268,7 @@ def same_dim(a: np.ndarray, b: np.ndarray, *, names: tuple[str, str]) -> None:
     if a.shape[1:] != b.shape[1:]:
         raise InvalidInputError(
             f"Expected `{second}` to have the same dimension as `{first}` "
-            f"({a.shape[1]}), got shape {_fmt_shape(b.shape)}.",
+            f"({a.shape[1]}), got shape {fmt_shape(b.shape)}.",
             field=second,
         )
 
@@ -287,7 +291,7 @@ def as_weights(w: Any, n: int, *, name: str) -> FloatArray | None:
     arr = _as_numeric_array(w, name=name, expected=expected)
     if arr.shape != (n,):
         raise InvalidInputError(
-            f"Expected `{name}` to be {expected}, got shape {_fmt_shape(arr.shape)}.",
+            f"Expected `{name}` to be {expected}, got shape {fmt_shape(arr.shape)}.",
             field=name,
         )
     out = np.ascontiguousarray(arr, dtype=np.float64)
@@ -468,3 +472,16 @@ def check_span(points: FloatArray, name: str, need: int, why: str) -> None:
         raise DegenerateInputError(
             f"Expected `{name}` to span at least {need} dimension{'s' if need > 1 else ''} "
             f"after centring, got {span}: the points are {what} and {why}.", field=name)
+
+
+#: The most points a dense method (``mds``, ``stress``, the embeddings' MDS) accepts: it
+#: holds a few ``n×n`` float64 matrices (4,000 points: 128 MB each).
+MAX_DENSE_POINTS = 4_000
+
+
+def check_dense_size(n: int, *, name: str) -> None:
+    """Raise when ``n`` points are too many for a dense ``n×n`` method."""
+    if n > MAX_DENSE_POINTS:
+        raise InvalidInputError(
+            f"Expected `{name}` to describe at most {MAX_DENSE_POINTS:,} points (the method "
+            f"holds dense n×n matrices), got {n:,}.", field=name)

@@ -4,14 +4,14 @@ and the handle residual."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.mesh import Handles, Mesh, as_handles, as_mesh, components
+from algorithms.core.mesh import read_mesh  # re-exported for the family's modules
+from algorithms.core.mesh import Handles, Mesh, as_handles, components
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_indices, as_points
 
@@ -27,25 +27,6 @@ __all__ = [
     "handle_residual",
     "affine_rank",
 ]
-
-
-def read_mesh(mesh: Any, *, name: str = "mesh") -> Mesh:
-    """A checked :class:`Mesh` from a ``Mesh``, a ``(vertices, faces)`` pair or a mapping
-    with those keys (as JSON delivers it)."""
-    if isinstance(mesh, Mesh):
-        return as_mesh(mesh.vertices, mesh.faces, name=name)
-    if isinstance(mesh, Mapping):
-        missing = [k for k in ("vertices", "faces") if k not in mesh]
-        if missing:
-            raise InvalidInputError(
-                f"Expected `{name}` to be an object with keys 'vertices' and 'faces', got "
-                f"missing {', '.join(repr(k) for k in missing)}.", field=name)
-        return as_mesh(mesh["vertices"], mesh["faces"], name=name)
-    if isinstance(mesh, (tuple, list)) and len(mesh) == 2:
-        return as_mesh(mesh[0], mesh[1], name=name)
-    raise InvalidInputError(
-        f"Expected `{name}` to be a Mesh or a (vertices, faces) pair, got "
-        f"{type(mesh).__name__}.", field=name)
 
 
 def read_handles(handles: Any, mesh: Mesh, *, name: str = "handles") -> Handles:

@@ -13,7 +13,7 @@ from algorithms.core.progress import Progress
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_bool, as_int, as_points
 from algorithms.embedding._quality import trustworthiness
-from algorithms.layout._inputs import MAX_DENSE_POINTS
+from algorithms.core.validation import MAX_DENSE_POINTS
 from algorithms.layout.mds import classical_coordinates, raw_stress
 from algorithms.layout.stress import stress as smacof
 

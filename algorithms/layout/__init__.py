@@ -2,7 +2,7 @@
 some of them pinned (``laplacian``, ``poisson``), or for points known only by their pairwise
 distances (``mds``, ``stress``)."""
 
-from algorithms.layout._inputs import Graph, as_graph
+from algorithms.core.graphs import Graph, as_graph
 from algorithms.layout.laplacian import LaplacianLayoutResult, laplacian
 from algorithms.layout.mds import MDSResult, mds
 from algorithms.layout.poisson import PoissonLayoutResult, poisson

@@ -1,5 +1,5 @@
-"""Inputs shared by the layout methods: graphs given by their edges, and distance matrices
-(full, with missing entries, or as a list of known pairs).
+"""Inputs shared by the layout methods: distance matrices (full, with missing entries, or as
+a list of known pairs) and the distances of a graph (:func:`~algorithms.core.graphs.as_graph`).
 
 Every checker takes the input's ``name`` and raises
 :class:`~algorithms.core.errors.InvalidInputError` naming it (``graph.edges``,
@@ -11,8 +11,6 @@ that split the points into unrelated groups) raise
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -20,165 +18,24 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, shortest_path
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.mesh import Mesh, as_mesh
-from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_indices, as_int, as_points, as_weights
+from algorithms.core.graphs import as_graph
+from algorithms.core.types import FloatArray
+from algorithms.core.validation import (
+    MAX_DENSE_POINTS,
+    as_indices,
+    as_int,
+    as_points,
+    check_dense_size,
+    fmt_shape,
+)
 
 __all__ = [
-    "Graph",
-    "as_graph",
-    "as_layout_mesh",
     "as_distance_matrix",
     "distance_pairs_matrix",
-    "check_dense_size",
     "check_connected",
     "graph_distances",
     "resolve_distances",
-    "MAX_DENSE_POINTS",
 ]
-
-#: The most points a dense method (``mds``, ``stress``) accepts: it holds a few ``n×n``
-#: float64 matrices (4,000 points: 128 MB each).
-MAX_DENSE_POINTS = 4_000
-
-
-@dataclass(frozen=True, eq=False)
-class Graph:
-    """A graph on ``n_nodes`` nodes given by its edges.
-
-    Build one with :func:`as_graph`, which checks it; the constructor does not.
-
-    Attributes
-    ----------
-    n_nodes : int
-        Number of nodes, numbered ``0 .. n_nodes - 1``.
-    edges : (e, 2) int array
-        One row ``(i, j)`` per edge, in the order and orientation given (``layout.poisson``
-        matches its vectors to ``p_i - p_j`` of each row).
-    weights : (e,) float array or None
-        One non-negative number per edge, or ``None`` for all ones. Spring stiffness in
-        ``layout.laplacian`` and ``layout.poisson``; edge length in ``layout.stress``.
-    """
-
-    n_nodes: int
-    edges: IntArray
-    weights: FloatArray | None = None
-
-    def __repr__(self) -> str:
-        return f"Graph(n_nodes={self.n_nodes}, n_edges={self.edges.shape[0]})"
-
-
-def _fmt_shape(shape: tuple[int, ...]) -> str:
-    return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
-
-
-def as_graph(graph: Any, *, name: str = "graph", max_nodes: int | None = None,
-             positive_weights: bool = False) -> Graph:
-    """Check a graph and return it as a :class:`Graph`.
-
-    Parameters
-    ----------
-    graph : Graph or mapping
-        A :class:`Graph`, or a mapping with keys ``"nodes"`` (the node count, an integer
-        ``>= 1``), ``"edges"`` (``(e, 2)`` node indices) and optionally ``"weights"``
-        (``(e,)`` non-negative numbers), as JSON delivers it.
-    name : str, default "graph"
-        Errors name ``{name}.nodes``, ``{name}.edges`` or ``{name}.weights``.
-    max_nodes : int, optional
-        Most nodes accepted (the service's size limit).
-    positive_weights : bool, default False
-        Demand weights ``> 0`` (edge lengths) instead of ``>= 0``.
-
-    Raises
-    ------
-    InvalidInputError
-        Not such a mapping, a node count that is not a positive integer, edges not ``(e, 2)``
-        integers in ``[0, nodes)``, an edge joining a node to itself, weights not one
-        finite non-negative (positive) number per edge.
-    """
-    nname, ename, wname = f"{name}.nodes", f"{name}.edges", f"{name}.weights"
-    if isinstance(graph, Graph):
-        nodes, edges, weights = graph.n_nodes, graph.edges, graph.weights
-    elif isinstance(graph, Mapping):
-        missing = [k for k in ("nodes", "edges") if k not in graph]
-        extra = sorted(str(k) for k in graph if k not in ("nodes", "edges", "weights"))
-        if missing or extra:
-            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
-                    else f"unknown key {', '.join(repr(k) for k in extra)}")
-            raise InvalidInputError(
-                f"Expected `{name}` to be an object with keys 'nodes', 'edges' and optionally "
-                f"'weights', got {what}.", field=name)
-        nodes, edges, weights = graph["nodes"], graph["edges"], graph.get("weights")
-    else:
-        raise InvalidInputError(
-            f"Expected `{name}` to be an object with keys 'nodes', 'edges' and optionally "
-            f"'weights', got {type(graph).__name__}.", field=name)
-    n = as_int(nodes, name=nname, minimum=1, maximum=max_nodes,
-               reason="the service's limit" if max_nodes is not None else "")
-    try:
-        shape = np.shape(edges)
-    except (ValueError, TypeError):
-        shape = None
-    if shape is not None and not (len(shape) == 2 and shape[1] == 2) and shape != (0,):
-        raise InvalidInputError(
-            f"Expected `{ename}` to be an (e, 2) array of node indices, got shape "
-            f"{_fmt_shape(shape)}.", field=ename)
-    e = as_indices(edges, n, name=ename, what="node indices").reshape(-1, 2)
-    loops = e[:, 0] == e[:, 1]
-    if loops.any():
-        row = int(np.argmax(loops))
-        raise InvalidInputError(
-            f"Expected `{ename}` to join two distinct nodes per edge, got {e[row].tolist()} "
-            f"at row {row}.", field=ename)
-    w = None
-    if weights is not None:
-        try:
-            wshape = np.shape(weights)
-        except (ValueError, TypeError):
-            wshape = None
-        if wshape is not None and len(wshape) != 1:
-            raise InvalidInputError(
-                f"Expected `{wname}` to be a flat list of one number per edge, got shape "
-                f"{_fmt_shape(wshape)}.", field=wname)
-        if e.shape[0] == 0 and wshape == (0,):
-            w = np.zeros(0)
-        else:
-            w = as_weights(weights, e.shape[0], name=wname)
-        if positive_weights and (w <= 0).any():
-            row = int(np.argmax(w <= 0))
-            raise InvalidInputError(
-                f"Expected `{wname}` to be positive (edge lengths), got {float(w[row])!r} at "
-                f"position {row}.", field=wname)
-    return Graph(n, e, w)
-
-
-def as_layout_mesh(mesh: Any, *, name: str = "mesh") -> Mesh:
-    """A mesh input: a :class:`~algorithms.core.mesh.Mesh`, a mapping with ``vertices``
-    and ``faces``, or a ``(vertices, faces)`` pair; checked by
-    :func:`~algorithms.core.mesh.as_mesh` (a ``Mesh`` is checked again: its constructor
-    does not check)."""
-    if isinstance(mesh, Mesh):
-        return as_mesh(mesh.vertices, mesh.faces, name=name)
-    if isinstance(mesh, Mapping):
-        if set(mesh) != {"vertices", "faces"}:
-            raise InvalidInputError(
-                f"Expected `{name}` to be an object with keys 'vertices' and 'faces', got "
-                f"keys {sorted(str(k) for k in mesh)}.", field=name)
-        return as_mesh(mesh["vertices"], mesh["faces"], name=name)
-    if isinstance(mesh, tuple) and len(mesh) == 2:
-        return as_mesh(mesh[0], mesh[1], name=name)
-    raise InvalidInputError(
-        f"Expected `{name}` to be a mesh (vertices and faces), got {type(mesh).__name__}.",
-        field=name)
-
-
-def check_dense_size(n: int, *, name: str) -> None:
-    """Raise when ``n`` points are too many for a dense ``n×n`` method."""
-    if n > MAX_DENSE_POINTS:
-        raise InvalidInputError(
-            f"Expected `{name}` to describe at most {MAX_DENSE_POINTS:,} points (the method "
-            f"holds dense n×n matrices), got {n:,}.", field=name)
-
 
 def _as_float_matrix(x: Any, *, name: str, expected: str) -> np.ndarray:
     """A float64 array from nested lists or an array; ``None`` entries become NaN."""
@@ -240,7 +97,7 @@ def as_distance_matrix(x: Any, *, name: str = "distances", allow_missing: bool =
     d = _as_float_matrix(x, name=name, expected=expected)
     if d.ndim != 2 or d.shape[0] != d.shape[1]:
         raise InvalidInputError(
-            f"Expected `{name}` to be {expected}, got shape {_fmt_shape(d.shape)}.",
+            f"Expected `{name}` to be {expected}, got shape {fmt_shape(d.shape)}.",
             field=name)
     n = d.shape[0]
     if n < 2:

@@ -18,7 +18,8 @@ from algorithms.core.linsolve import PinnedSystem
 from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_handles, boundary_loops
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_choice
-from algorithms.layout._inputs import Graph, as_graph, as_layout_mesh
+from algorithms.core.graphs import Graph, as_graph
+from algorithms.core.mesh import read_mesh
 
 __all__ = ["LaplacianLayoutResult", "laplacian", "WEIGHTINGS", "SPACINGS", "face_orientation"]
 
@@ -171,7 +172,7 @@ def laplacian(
             field="graph" if mesh is not None else "mesh")
     faces: IntArray | None = None
     if mesh is not None:
-        m = as_layout_mesh(mesh)
+        m = read_mesh(mesh)
         n, faces = m.n_vertices, m.faces
         lap = mesh_laplacian(m.vertices, m.faces, kind=weighting)
     else:

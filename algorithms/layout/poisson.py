@@ -18,7 +18,8 @@ from algorithms.core.mesh import as_handles
 from algorithms.core.mesh import edges as mesh_edges
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_points, as_weights
-from algorithms.layout._inputs import as_graph, as_layout_mesh
+from algorithms.core.graphs import as_graph
+from algorithms.core.mesh import read_mesh
 from algorithms.layout.laplacian import WEIGHTINGS
 
 __all__ = ["PoissonLayoutResult", "poisson"]
@@ -155,7 +156,7 @@ def poisson(
             f"{'both' if mesh is not None else 'neither'}.",
             field="graph" if mesh is not None else "mesh")
     if mesh is not None:
-        m = as_layout_mesh(mesh)
+        m = read_mesh(mesh)
         n = m.n_vertices
         e = mesh_edges(m.faces)
         if weighting == "uniform":

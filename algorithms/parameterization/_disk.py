@@ -10,7 +10,7 @@ import numpy as np
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import Mesh, boundary_loops, components, face_angles
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.layout._inputs import as_layout_mesh
+from algorithms.core.mesh import read_mesh
 
 __all__ = ["NotADiskError", "Disk", "read_disk", "check_disk", "convex_boundary", "BOUNDARIES"]
 
@@ -113,7 +113,7 @@ def check_disk(mesh: Mesh, *, name: str = "mesh") -> IntArray:
 def read_disk(mesh: Any, *, name: str = "mesh") -> Disk:
     """A :class:`Disk` from a ``Mesh``, a ``(vertices, faces)`` pair or a mapping with those
     keys, checked by :func:`~algorithms.core.mesh.as_mesh` and :func:`check_disk`."""
-    m = as_layout_mesh(mesh, name=name)
+    m = read_mesh(mesh, name=name)
     return Disk(m, check_disk(m, name=name))
 
 

@@ -15,7 +15,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from algorithms.alignment import affine, pca, rigid, similarity
-from algorithms.alignment._pairs import rotation_fit, trusted_pairs
+from algorithms.core.pairs import rotation_fit, trusted_pairs
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.progress import Progress, as_progress

@@ -12,31 +12,11 @@ from algorithms.classification import LDAResult, NCAResult, lda, nca
 from algorithms.classification._common import as_labels
 from algorithms.core.errors import InvalidInputError
 from service.catalog.base import Params
-from service.catalog.inputs import Points
+from service.catalog.inputs import Labels, Points
+from service import scenes
 from service.catalog.registry import Process, registry
 
 
-def _validate_labels(value: Any) -> np.ndarray:
-    if not isinstance(value, (list, np.ndarray)) or any(
-            isinstance(v, (bool, float, dict, list)) or v is None for v in value):
-        raise InvalidInputError("Expected `labels` to be a flat list of class labels, all "
-                                "integers or all strings.", field="labels")
-    kinds = {type(v) for v in value}
-    if len(kinds) > 1:
-        raise InvalidInputError("Expected `labels` to be all integers or all strings, got "
-                                "a mix.", field="labels")
-    return np.asarray(value)  # the length against the points: the model validator
-
-
-Labels = Annotated[
-    np.ndarray,
-    PlainValidator(_validate_labels),
-    PlainSerializer(lambda a: a.tolist()),
-    WithJsonSchema({"type": "array", "items": {"type": ["integer", "string"]},
-                    "minItems": 1, "description": "One class label per point: integers or "
-                    "strings."}),
-]
-"""One class label per point (integers or strings), as a 1-D numpy array."""
 
 _POINTS = [[0, 0], [1, 0], [0, 1], [1, 1.5], [5, 5], [6, 5], [5, 6], [6.5, 6]]
 _LABELS = ["a", "a", "a", "a", "b", "b", "b", "b"]
@@ -76,6 +56,7 @@ class LDAParams(_Supervised):
 
 registry.add(Process(
     id="classification.lda",
+    geometry=scenes.embedding,
     title="Fisher linear discriminant analysis",
     description="The directions maximising between-class over within-class variance "
     "(S_B a = λ S_W a, by two SVDs as scikit-learn's svd solver), the points projected on "
@@ -115,6 +96,7 @@ class NCAParams(_Supervised):
 
 registry.add(Process(
     id="classification.nca",
+    geometry=scenes.embedding,
     title="Neighbourhood components analysis",
     description="The linear map maximising the expected number of points whose stochastic "
     "nearest neighbour (softmax over squared distances) has their class, by L-BFGS as "

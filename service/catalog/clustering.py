@@ -19,8 +19,8 @@ from algorithms.clustering import (
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.graphs import check_n_neighbors
 from service.catalog.base import Params
-from service.catalog.inputs import Points
-from service.catalog.layout import GraphInput
+from service.catalog.inputs import GraphInput, Points
+from service import scenes
 from service.catalog.registry import Process, registry
 
 _TWO_GROUPS = [[0, 0], [0, 1], [1, 0], [1, 1], [10, 10], [10, 11], [11, 10], [11, 11]]
@@ -78,6 +78,7 @@ class SpectralParams(_GraphParams):
 
 registry.add(Process(
     id="clustering.spectral",
+    geometry=scenes.clusters,
     title="Spectral clustering (Ng, Jordan, Weiss)",
     description="k-means (k-means++ seeding, seeded) on the bottom eigenvectors of the "
     "symmetric normalised Laplacian of the points' neighbour graph, rows scaled to unit "
@@ -132,6 +133,7 @@ class MarkovParams(_GraphParams):
 
 registry.add(Process(
     id="clustering.markov",
+    geometry=scenes.clusters,
     title="Markov clustering (MCL)",
     description="Alternates expansion (a matrix power: random-walk steps) and inflation "
     "(elementwise power, columns renormalised) of the column-stochastic matrix of a graph "

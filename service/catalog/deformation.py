@@ -26,6 +26,7 @@ from algorithms.deformation import (
 )
 from service.catalog.base import Params
 from service.catalog.inputs import HandlesInput, MeshInput, Points
+from service import scenes
 from service.catalog.registry import Process, registry
 
 # A 2 × 1 strip of unit squares in the plane z = 0 (six vertices, four triangles) ...
@@ -129,6 +130,7 @@ class DeformationTransferParams(_DeformParams):
 
 registry.add(Process(
     id="deformation.laplacian",
+    geometry=scenes.deformed_mesh,
     title="Laplacian-preserving deformation",
     description="Moves the handles and every other vertex so that the weighted edge vectors "
     "change least: L_ff x' = (L x)_f − L_fp c, one factored solve for all coordinates.",
@@ -142,6 +144,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="deformation.laplacian_editing",
+    geometry=scenes.deformed_mesh,
     title="Laplacian surface editing (linearised per-vertex similarities)",
     description="Laplacian coordinates that rotate and scale with the surface: "
     "min Σ‖T_i(x') δ_i − L(x')_i‖² with each T_i the linearised similarity fitted to the "
@@ -157,6 +160,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="deformation.arap",
+    geometry=scenes.deformed_mesh,
     title="As-rigid-as-possible deformation (local/global)",
     description="Alternates per-vertex best rotations (batched, proper) and one prefactored "
     "cotangent-Laplacian solve; handles met exactly, energy never increasing; spokes or "
@@ -172,6 +176,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="deformation.harmonic",
+    geometry=scenes.deformed_mesh,
     title="Harmonic deformation",
     description="Spreads the handle displacements by the Laplace equation (cotangent "
     "Laplacian): L_ff u_f = −L_fp u_p, x' = x + u; as igl.harmonic with k = 1.",
@@ -186,6 +191,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="deformation.biharmonic",
+    geometry=scenes.deformed_mesh,
     title="Biharmonic deformation",
     description="Spreads the handle displacements by the bi-Laplace equation L M⁻¹ L u = 0 "
     "(cotangent Laplacian, Voronoi mass), smooth at the handles; as igl.harmonic with "
@@ -201,6 +207,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="deformation.isotropic_scaling",
+    geometry=scenes.deformed_mesh,
     title="Isotropic scaling deformation (scale-and-stretch)",
     description="Each face may only scale, edges keep their directions and adapt their "
     "lengths: block coordinate descent between closed-form per-face scales and one "
@@ -217,6 +224,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="deformation.deformation_transfer",
+    geometry=scenes.deformed_mesh,
     title="Deformation transfer (same connectivity)",
     description="Gives the target mesh the per-face deformation gradients of a source mesh "
     "that deforms from source to source_deformed (same faces): min Σ‖T_c − Q_c‖²_F with "

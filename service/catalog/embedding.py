@@ -29,9 +29,10 @@ from algorithms.embedding.isomap import MAX_ISOMAP_POINTS
 from algorithms.embedding.som import SOMResult, som
 from algorithms.embedding.sne import MAX_SNE_POINTS, SNEResult, sne
 from algorithms.embedding.tsne import MAX_EXACT_POINTS, TSNEResult, tsne
-from algorithms.layout._inputs import MAX_DENSE_POINTS
+from algorithms.core.validation import MAX_DENSE_POINTS
 from service.catalog.base import Params
 from service.catalog.inputs import Points
+from service import scenes
 from service.catalog.registry import Process, registry
 
 # The seed document's example: twelve points on a closed curve around a cube's centre.
@@ -92,6 +93,7 @@ class PCAParams(_EmbeddingParams):
 
 registry.add(Process(
     id="embedding.pca",
+    geometry=scenes.embedding,
     title="Principal component analysis",
     description="Projects the centred data on its k principal axes (thin SVD): the "
     "orthogonal projection keeping the most variance. Reports the axes, the variance along "
@@ -129,6 +131,7 @@ class EmbeddingMDSParams(_EmbeddingParams):
 
 registry.add(Process(
     id="embedding.mds",
+    geometry=scenes.embedding,
     title="Multidimensional scaling (classical or metric)",
     description="Classical MDS: the top eigenvectors of the double-centred squared distances "
     "−½JD⁽²⁾J (for Euclidean input the PCA scores); optionally refined by SMACOF stress "
@@ -164,6 +167,7 @@ class RandomProjectionParams(_EmbeddingParams):
 
 registry.add(Process(
     id="embedding.random_projection",
+    geometry=scenes.embedding,
     title="Random projection (Johnson–Lindenstrauss)",
     description="Maps the points by a random k×D matrix, Gaussian or sparse, that keeps "
     "squared distances in expectation. Reports the matrix, the largest relative distortion "
@@ -211,6 +215,7 @@ class IsomapParams(_GraphParams):
 
 registry.add(Process(
     id="embedding.isomap",
+    geometry=scenes.embedding,
     title="Isomap",
     description="Classical MDS of geodesic distances: shortest paths along the neighbourhood "
     "graph (Dijkstra), then the top eigenvectors of −½JG⁽²⁾J. A disconnected graph is an "
@@ -246,6 +251,7 @@ class LaplacianEigenmapsParams(_SpectralParams):
 
 registry.add(Process(
     id="embedding.laplacian_eigenmaps",
+    geometry=scenes.embedding,
     title="Laplacian eigenmaps (spectral embedding)",
     description="The eigenvectors of the smallest non-trivial eigenvalues of the "
     "neighbourhood graph's Laplacian, Lv = λDv by default. A disconnected graph is an error "
@@ -272,6 +278,7 @@ class LPPParams(_SpectralParams):
 
 registry.add(Process(
     id="embedding.lpp",
+    geometry=scenes.embedding,
     title="Locality preserving projections",
     description="The linear map closest to Laplacian eigenmaps: generalized eigenvectors of "
     "XᵀLXa = λXᵀDXa on the centred data. Reports the projection (applies to new points), "
@@ -306,6 +313,7 @@ class LLEParams(_EmbeddingParams):
 
 registry.add(Process(
     id="embedding.lle",
+    geometry=scenes.embedding,
     title="Locally linear embedding",
     description="Sum-to-one weights reconstructing each point from its neighbours "
     "(regularised), then the bottom non-trivial eigenvectors of (I − W)ᵀ(I − W). Reports "
@@ -351,6 +359,7 @@ class SOMParams(Params):
 
 registry.add(Process(
     id="embedding.som",
+    geometry=scenes.embedding,
     title="Self-organising map",
     description="A rows × columns grid of nodes pulled onto the data (Kohonen's online rule "
     "or the batch map); each point is embedded at its best-matching node's grid position. "
@@ -427,6 +436,7 @@ class TSNEParams(_StochasticParams):
 
 registry.add(Process(
     id="embedding.tsne",
+    geometry=scenes.embedding,
     title="t-SNE (t-distributed stochastic neighbour embedding)",
     description="Perplexity-calibrated Gaussian affinities (binary search per point), "
     "Cauchy affinities in the embedding, KL(P‖Q) minimised by gradient descent with "
@@ -461,6 +471,7 @@ class SNEParams(_StochasticParams):
 
 registry.add(Process(
     id="embedding.sne",
+    geometry=scenes.embedding,
     title="Symmetric SNE (stochastic neighbour embedding)",
     description="t-SNE's input affinities with a Gaussian kernel in the embedding too "
     "(the light tails crowd clusters together: t-SNE's motivation); exact all-pairs "

@@ -22,11 +22,13 @@ from pydantic import PlainSerializer, PlainValidator, ValidationInfo, WithJsonSc
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.mesh import Handles as HandlesData
+from algorithms.core.params import Kind
 from algorithms.core.mesh import Mesh, as_handles, as_mesh
 from algorithms.core.validation import as_points
+from algorithms.core.graphs import Graph, as_graph
 
-__all__ = ["Points", "Weights", "points_schema", "MeshInput", "Handles", "HandlesInput",
-           "mesh_schema", "handles_schema"]
+__all__ = ["Points", "Weights", "Labels", "points_schema", "MeshInput", "Handles",
+           "HandlesInput", "GraphInput", "mesh_schema", "handles_schema", "KIND_TYPES"]
 
 
 def points_schema(description: str, *, dim: int | None = None,
@@ -177,3 +179,80 @@ into :class:`algorithms.core.mesh.Handles` (structure only: check them against t
 
 HandlesInput = Handles
 """Alias of :data:`Handles` that does not shadow the dataclass's name."""
+
+
+def _graph_schema(description: str) -> dict[str, Any]:
+    return {
+        "type": "object",
+        "description": description,
+        "properties": {
+            "nodes": {"type": "integer", "minimum": 1, "description": "The number of nodes, "
+                      "numbered 0 .. nodes - 1."},
+            "edges": {"type": "array", "description": "One row (i, j) of node indices per "
+                      "edge.", "items": {"type": "array", "items": {"type": "integer",
+                                                                      "minimum": 0},
+                                         "minItems": 2, "maxItems": 2}},
+            "weights": {"type": "array", "items": {"type": "number", "minimum": 0},
+                        "description": "Optional: one non-negative number per edge."},
+        },
+        "required": ["nodes", "edges"],
+        "additionalProperties": False,
+    }
+
+
+def _validate_graph(value: Any, info: ValidationInfo) -> Graph:
+    max_points = (info.context or {}).get("max_points")
+    return as_graph(value, name=info.field_name or "graph", max_nodes=max_points)
+
+
+def _graph_json(g: Graph) -> dict[str, Any]:
+    out: dict[str, Any] = {"nodes": g.n_nodes, "edges": g.edges.tolist()}
+    if g.weights is not None:
+        out["weights"] = g.weights.tolist()
+    return out
+
+
+GraphInput = Annotated[
+    Graph,
+    PlainValidator(_validate_graph),
+    PlainSerializer(_graph_json),
+    WithJsonSchema(_graph_schema("A graph: its node count, edges and optional edge weights.")),
+]
+"""A graph ``{"nodes": n, "edges": [[i, j], ...], "weights": [...]?}`` validated into
+:class:`algorithms.layout.Graph`."""
+
+
+def _validate_labels(value: Any, info: ValidationInfo) -> np.ndarray:
+    name = info.field_name or "labels"
+    if not isinstance(value, (list, np.ndarray)) or any(
+            isinstance(v, (bool, float, dict, list)) or v is None for v in value):
+        raise InvalidInputError(f"Expected `{name}` to be a flat list of class labels, all "
+                                "integers or all strings.", field=name)
+    kinds = {type(v) for v in value}
+    if len(kinds) > 1:
+        raise InvalidInputError(f"Expected `{name}` to be all integers or all strings, got "
+                                "a mix.", field=name)
+    return np.asarray(value)  # the length against the points: the function (or a check)
+
+
+Labels = Annotated[
+    np.ndarray,
+    PlainValidator(_validate_labels),
+    PlainSerializer(_tolist),
+    WithJsonSchema({"type": "array", "items": {"type": ["integer", "string"]},
+                    "minItems": 1, "description": "One class label per point: integers or "
+                    "strings."}),
+]
+"""One class label per point (integers or strings), as a 1-D numpy array."""
+
+
+KIND_TYPES: dict[Kind, Any] = {
+    Kind.POINTS: Points,
+    Kind.WEIGHTS: Weights,
+    Kind.LABELS: Labels,
+    Kind.MESH: MeshInput,
+    Kind.HANDLES: Handles,
+    Kind.GRAPH: GraphInput,
+}
+"""The JSON input type of each declared kind that has one general form. Inputs of the other
+kinds (shapes, other arrays) name their type in their catalog entry."""

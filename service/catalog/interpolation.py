@@ -37,6 +37,7 @@ from algorithms.interpolation._common import check_frame_count, read_shape
 from algorithms.interpolation.rigid import split_similarity
 from service.catalog.base import Params
 from service.catalog.inputs import Points, points_schema
+from service import scenes
 from service.catalog.registry import Process, registry
 
 # A 4 × 1 strip in the plane (ten vertices, eight triangles) ...
@@ -245,6 +246,7 @@ class PoissonParams(_MeshInterpolationParams):
 
 registry.add(Process(
     id="interpolation.affine",
+    geometry=scenes.animation,
     title="Affine interpolation by polar decomposition",
     description="A = R S (polar decomposition); R turns along the shortest arc (slerp), S "
     "and the translation move linearly, so det A(t) > 0 all along the path. The map is "
@@ -260,6 +262,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="interpolation.rigid",
+    geometry=scenes.animation,
     title="Rigid (or similarity) motion interpolation",
     description="Fits a rigid motion (Kabsch) or similarity (Umeyama) to the target, or "
     "takes the one given, and moves the shape along it: rotation by slerp (shortest arc), "
@@ -275,6 +278,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="interpolation.arap",
+    geometry=scenes.animation,
     title="As-rigid-as-possible shape interpolation",
     description="Per face, A_f = R_f S_f interpolated as slerp(R_f) lerp(I, S_f); the "
     "vertices of each frame solve min Σ_f ‖B_f(x) − A_f(t)‖² with one vertex on its "
@@ -290,6 +294,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="interpolation.poisson",
+    geometry=scenes.animation,
     title="Poisson shape interpolation",
     description="Per-face gradients interpolated (rotations made continuous across the "
     "mesh then slerped, stretches lerped) and each frame recovered by a Poisson solve "

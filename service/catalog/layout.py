@@ -37,52 +37,12 @@ from algorithms.layout._inputs import (
     distance_pairs_matrix,
 )
 from service.catalog.base import Params
-from service.catalog.inputs import MeshInput, Points, Weights
+from service.catalog.inputs import GraphInput, MeshInput, Points, Weights
+from service import scenes
 from service.catalog.registry import Process, registry
 
 
 # -- input types -----------------------------------------------------------------------------
-def _graph_schema(description: str) -> dict[str, Any]:
-    return {
-        "type": "object",
-        "description": description,
-        "properties": {
-            "nodes": {"type": "integer", "minimum": 1, "description": "The number of nodes, "
-                      "numbered 0 .. nodes - 1."},
-            "edges": {"type": "array", "description": "One row (i, j) of node indices per "
-                      "edge.", "items": {"type": "array", "items": {"type": "integer",
-                                                                      "minimum": 0},
-                                         "minItems": 2, "maxItems": 2}},
-            "weights": {"type": "array", "items": {"type": "number", "minimum": 0},
-                        "description": "Optional: one non-negative number per edge."},
-        },
-        "required": ["nodes", "edges"],
-        "additionalProperties": False,
-    }
-
-
-def _validate_graph(value: Any, info: ValidationInfo) -> Graph:
-    max_points = (info.context or {}).get("max_points")
-    return as_graph(value, name=info.field_name or "graph", max_nodes=max_points)
-
-
-def _graph_json(g: Graph) -> dict[str, Any]:
-    out: dict[str, Any] = {"nodes": g.n_nodes, "edges": g.edges.tolist()}
-    if g.weights is not None:
-        out["weights"] = g.weights.tolist()
-    return out
-
-
-GraphInput = Annotated[
-    Graph,
-    PlainValidator(_validate_graph),
-    PlainSerializer(_graph_json),
-    WithJsonSchema(_graph_schema("A graph: its node count, edges and optional edge weights.")),
-]
-"""A graph ``{"nodes": n, "edges": [[i, j], ...], "weights": [...]?}`` validated into
-:class:`algorithms.layout.Graph`."""
-
-
 def _validate_pins(value: Any, info: ValidationInfo) -> Handles:
     name = info.field_name or "pins"
     if not isinstance(value, (Handles, dict)):
@@ -236,6 +196,7 @@ class LaplacianParams(Params):
 
 registry.add(Process(
     id="layout.laplacian",
+    geometry=scenes.layout,
     title="Laplacian (spring) layout; Tutte embedding",
     description="Places every free vertex at the weighted average of its neighbours, some "
     "vertices pinned: L₀₀x = −L₀₁c, one factored solve for all coordinates. A mesh's boundary "
@@ -313,6 +274,7 @@ class PoissonParams(Params):
 
 registry.add(Process(
     id="layout.poisson",
+    geometry=scenes.layout,
     title="Poisson layout (edge vectors to match, soft anchors)",
     description="Positions whose edge differences best match given vectors, pulled towards "
     "anchors and held at pins: min Σ wᵢⱼ‖(pᵢ − pⱼ) − vᵢⱼ‖² + Σ uᵢ‖pᵢ − zᵢ‖², solved as "
@@ -379,6 +341,7 @@ class MDSParams(_DistanceParams):
 
 registry.add(Process(
     id="layout.mds",
+    geometry=scenes.layout,
     title="Classical multidimensional scaling (with completion of missing distances)",
     description="Coordinates from the top eigenvectors of the double-centred squared "
     "distances −½JD⁽²⁾J. Missing distances are completed first: rank-(k+2) truncation of "
@@ -428,6 +391,7 @@ class StressParams(_DistanceParams):
 
 registry.add(Process(
     id="layout.stress",
+    geometry=scenes.layout,
     title="Stress majorization (SMACOF)",
     description="The layout minimising the weighted stress Σ wᵢⱼ(‖xᵢ − xⱼ‖ − dᵢⱼ)² over the "
     "known pairs by Guttman transforms (never increasing), from classical MDS; distances "

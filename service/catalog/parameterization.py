@@ -21,6 +21,7 @@ from algorithms.parameterization import (
 from algorithms.parameterization.conformal import _check_pins
 from service.catalog.base import Params
 from service.catalog.inputs import HandlesInput, MeshInput
+from service import scenes
 from service.catalog.registry import Process, registry
 
 # A 3 × 3-vertex sheet bent over a ridge: the smallest useful curved disk
@@ -103,6 +104,7 @@ _REPORTS = " Reports flipped faces, angle distortion and area distortion."
 
 registry.add(Process(
     id="parameterization.tutte",
+    geometry=scenes.uv_mesh,
     title="Tutte embedding (circle or square boundary)",
     description="Pins the boundary loop to a circle or square and puts every interior vertex "
     "at a convex combination of its neighbours (uniform or mean value weights): one sparse "
@@ -118,6 +120,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="parameterization.harmonic",
+    geometry=scenes.uv_mesh,
     title="Harmonic parameterization",
     description="Boundary fixed to a circle or square, interior by the cotangent Laplace "
     "equation (minimal Dirichlet energy); as igl.harmonic." + _REPORTS,
@@ -132,6 +135,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="parameterization.conformal",
+    geometry=scenes.uv_mesh,
     title="Conformal parameterization (LSCM, spectral)",
     description="Minimises the conformal energy (Dirichlet minus area): LSCM with two or more "
     "pins (chosen automatically or given; as igl.lscm), or spectral conformal with a free "
@@ -147,6 +151,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="parameterization.arap",
+    geometry=scenes.uv_mesh,
     title="As-rigid-as-possible parameterization (local/global)",
     description="Alternates per-face nearest rotations (closed form) and one prefactored "
     "cotangent-Laplacian solve with a per-half-edge right-hand side; free boundary, energy "
@@ -162,6 +167,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="parameterization.asap",
+    geometry=scenes.uv_mesh,
     title="As-similar-as-possible parameterization (local/global)",
     description="Alternates per-face nearest similarities and one prefactored solve, two "
     "boundary vertices held; converges to the LSCM map with those pins." + _REPORTS,
@@ -202,6 +208,7 @@ class BijectiveParams(_DiskParams):
 
 registry.add(Process(
     id="parameterization.stretch_minimizing",
+    geometry=scenes.uv_mesh,
     title="Stretch-minimizing parameterization (fixed boundary)",
     description="Starts from the mean value Tutte map (boundary on a circle or square), then "
     "divides each weight w_ij by the stretch around vertex j and solves again while "
@@ -221,6 +228,7 @@ registry.add(Process(
 
 registry.add(Process(
     id="parameterization.bijective",
+    geometry=scenes.uv_mesh,
     title="Bijective parameterization (symmetric Dirichlet, free boundary)",
     description="Minimises the symmetric Dirichlet energy plus a boundary barrier from a "
     "flip-free Tutte start by SLIM steps; the line search never lets a face flip or the "
@@ -252,6 +260,7 @@ class AbfParams(_DiskParams):
 
 registry.add(Process(
     id="parameterization.abf",
+    geometry=scenes.uv_mesh,
     title="Angle-based flattening (ABF++)",
     description="Solves for the flat angles nearest the surface's (relative error, weights "
     "1/β²) under the triangle, planarity and wheel constraints by Newton's method on a "

@@ -13,6 +13,7 @@ from algorithms.registration._normals import given_normals
 from algorithms.registration.icp import INITS, check_init
 from service.catalog.base import Params
 from service.catalog.inputs import Points
+from service import scenes
 from service.catalog.registry import Process, registry
 
 # A tetrahedron-like asymmetric set and the same turned by 10° about z and shifted by (0.1, 0, 0)
@@ -101,6 +102,7 @@ class ICPParams(Params):
 
 registry.add(Process(
     id="registration.icp",
+    geometry=scenes.moved_source,
     title="Iterative closest point (rigid, similarity, affine)",
     description="Registers source onto target without correspondences: nearest-neighbour "
     "pairs (one kd-tree), closed-form or linearised point-to-plane / symmetric fit, repeat "
@@ -168,6 +170,7 @@ class CPDParams(Params):
 
 registry.add(Process(
     id="registration.cpd",
+    geometry=scenes.moved_source,
     title="Coherent point drift (rigid with scale, affine, nonrigid)",
     description="Registers source onto target without correspondences as a Gaussian mixture "
     "fitted by EM: soft correspondences from every pair, closed-form rigid (optionally "
@@ -242,6 +245,7 @@ class RANSACParams(Params):
 
 registry.add(Process(
     id="registration.ransac",
+    geometry=scenes.moved_source,
     title="RANSAC global registration (FPFH features or random triples) + ICP",
     description="Registers source onto target rigidly without a start: candidate pairs from "
     "mutually matched FPFH features (or, for small sets, the seed's random point triples), "
@@ -390,6 +394,7 @@ class MultiwayParams(Params):
 
 registry.add(Process(
     id="registration.multiway",
+    geometry=scenes.moved_sets,
     title="Multiway registration: generalised Procrustes or pose graph",
     description="Registers several point sets at once into the frame of set 0. With "
     "correspondences: generalised Procrustes analysis (rigid or similarity, any dimension), "

@@ -1,10 +1,22 @@
 """The registry: process id -> :class:`Process`.
 
-A :class:`Process` ties one algorithm function to its parameter model (pydantic: validation,
-defaults and the JSON Schema of every input), and derives its outputs from the function's
-result dataclass: each field is an output, described by the class docstring's numpydoc
-``Attributes`` section. Routes, the OpenAPI document, the SDK's method list and the docs all
-read this registry; nothing else lists methods.
+A :class:`Process` ties one algorithm function to the service. Everything the function
+declares is read from it, never restated:
+
+- the **inputs**: one per parameter of the signature (``progress`` aside), with the type,
+  choices, bounds and default of the signature (:func:`algorithms.core.params.declarations`)
+  and the description of the docstring's numpydoc ``Parameters``; array inputs get the JSON
+  form of their declared :class:`~algorithms.core.params.Kind` (:data:`KIND_TYPES`);
+- the **outputs**: the fields of the result dataclass the function's return annotation
+  names, described by its numpydoc ``Attributes``.
+
+A catalog entry adds only what is the service's own: the id and the texts a process
+description shows, an example of each required input, service caps on sizes
+(``limits``), the cost hints (``long``, ``fast_path``), checks across inputs that can refuse
+a request before it is queued (``check``), JSON types for inputs whose kind has no general
+form (``inputs``) and the GLB scene of a result (``geometry``). Routes, the OpenAPI
+document, the SDK's method list and the docs all read this registry; nothing else lists
+methods.
 """
 
 from __future__ import annotations
@@ -15,12 +27,22 @@ import re
 import typing
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
-from pydantic import BaseModel
+from annotated_types import BaseMetadata, Ge, GroupedMetadata, Gt, Le, Lt
+from pydantic import BaseModel, Field, create_model, model_validator
 
-__all__ = ["Process", "Output", "Registry", "registry"]
+from algorithms.core.params import Declaration, Kind, declarations
+from service.docstrings import numpydoc_entries, numpydoc_section, plain
+from service.catalog.base import Params
+
+__all__ = ["Process", "Output", "Registry", "registry", "input_description", "outputs_of",
+           "build_inputs"]
+
+Scene = Callable[[Mapping[str, Any], Mapping[str, Any], str], "bytes | None"]
+"""Builds the GLB of a result from its outputs, the job's validated inputs and the process
+id (the mesh's name); None when that result has no geometry to show (:mod:`service.scenes`)."""
 
 
 @dataclass(frozen=True)
@@ -33,33 +55,17 @@ class Output:
     schema: dict[str, Any]
 
 
-def _numpydoc_attributes(doc: str | None) -> dict[str, str]:
-    """``name : type`` + indented description lines of an ``Attributes`` section."""
-    if not doc:
-        return {}
-    lines = inspect.cleandoc(doc).splitlines()
-    out: dict[str, str] = {}
-    try:
-        start = next(i for i, ln in enumerate(lines)
-                     if ln.strip() == "Attributes" and i + 1 < len(lines)
-                     and set(lines[i + 1].strip()) == {"-"})
-    except StopIteration:
-        return {}
-    body = lines[start + 2:]
-    name = None
-    for i, ln in enumerate(body):
-        nxt = body[i + 1].strip() if i + 1 < len(body) else ""
-        if ln.strip() and nxt and set(nxt) == {"-"}:  # the title of the next section
-            break
-        m = re.match(r"^(\w+)\s*:", ln)
-        if m and not ln.startswith(" "):
-            name = m.group(1)
-            out[name] = ""
-        elif name is not None and ln.strip():
-            out[name] = (out[name] + " " + ln.strip()).strip()
-    return out
+def input_description(decl: Declaration, type_text: str, description: str) -> str:
+    """The description of an input: its numpydoc description, for an array preceded by its
+    documented shape (``(n, d) float array.``), as plain text."""
+    text = plain(description)
+    if decl.kind is not None and decl.kind is not Kind.SEED and type_text:
+        shape = re.sub(r",\s*(optional|default\b.*)$", "", type_text).strip()
+        text = f"{plain(shape)}. {text}" if text else plain(shape)
+    return text
 
 
+# -- outputs -------------------------------------------------------------------------------
 def _schema_of(hint: Any) -> dict[str, Any]:
     if hint is bool:
         return {"type": "boolean"}
@@ -89,7 +95,7 @@ def _schema_of(hint: Any) -> dict[str, Any]:
 
 def outputs_of(result_type: type) -> dict[str, Output]:
     """The outputs of a result dataclass: its fields, documented by its docstring."""
-    docs = _numpydoc_attributes(result_type.__doc__)
+    docs = numpydoc_section(result_type.__doc__, "Attributes")
     hints = typing.get_type_hints(result_type)
     outs = {}
     for f in dataclasses.fields(result_type):
@@ -99,21 +105,132 @@ def outputs_of(result_type: type) -> dict[str, Output]:
     return outs
 
 
+# -- inputs --------------------------------------------------------------------------------
+def _seed_type() -> Any:
+    return Annotated[int, Ge(0)]
+
+
+def _service_hint(hint: Any, kinds: Mapping[Kind, Any]) -> Any:
+    """The signature's annotation with every declared kind replaced by its JSON input type
+    (``PointsLike`` -> ``Points`` …) and seeds by integers >= 0; scalars stay as declared."""
+    origin = typing.get_origin(hint)
+    if origin is Annotated:
+        base, *meta = typing.get_args(hint)
+        kind = next((m for m in meta if isinstance(m, Kind)), None)
+        if kind is Kind.SEED:
+            return _seed_type()
+        if kind is not None:
+            if kind not in kinds:
+                raise TypeError(f"no JSON input type for kind {kind!r}; give one in the "
+                                "entry's inputs")
+            optional = type(None) in typing.get_args(base)
+            return kinds[kind] | None if optional else kinds[kind]
+        return hint
+    if origin is typing.Union or origin is __import__("types").UnionType:
+        args = [_service_hint(a, kinds) for a in typing.get_args(hint)]
+        out = args[0]
+        for a in args[1:]:
+            out = out | a if a is not type(None) else out | None
+        return out
+    return hint
+
+
+_FIELD_BOUNDS = {Ge: "ge", Gt: "gt", Le: "le", Lt: "lt"}
+
+
+def _limit_kwargs(name: str, limit: Any) -> dict[str, Any]:
+    items = list(limit) if isinstance(limit, (GroupedMetadata, tuple, list)) else [limit]
+    out = {}
+    for m in items:
+        if not isinstance(m, BaseMetadata) or type(m) not in _FIELD_BOUNDS:
+            raise TypeError(f"limits[{name!r}]: expected Ge/Gt/Le/Lt, got {m!r}")
+        key = _FIELD_BOUNDS[type(m)]
+        out[key] = getattr(m, key)
+    return out
+
+
+def _model_name(process_id: str) -> str:
+    return "".join(part.title() for part in re.split(r"[._]", process_id)) + "Inputs"
+
+
+def build_inputs(process_id: str, function: Callable[..., Any], *,
+                 kinds: Mapping[Kind, Any], inputs: Mapping[str, Any],
+                 examples: Mapping[str, Any], limits: Mapping[str, Any],
+                 hidden: tuple[str, ...],
+                 check: Callable[[Any], None] | None) -> type[BaseModel]:
+    """The pydantic model of a process's inputs, from its function's signature and
+    docstring plus the entry's service additions."""
+    decls = declarations(function)
+    hints = typing.get_type_hints(inspect.unwrap(function), include_extras=True)
+    docs = numpydoc_entries(inspect.getdoc(function), "Parameters")
+    for what, names in (("inputs", inputs), ("examples", examples), ("limits", limits),
+                        ("hidden", hidden)):
+        unknown = sorted(set(names) - set(decls))
+        if unknown:
+            raise TypeError(f"{process_id}: {what} names no parameter: {unknown}")
+    fields: dict[str, Any] = {}
+    for name, decl in decls.items():
+        if name in hidden:
+            if decl.required:
+                raise TypeError(f"{process_id}: a required parameter cannot be hidden: {name}")
+            continue
+        if name in inputs:
+            hint = inputs[name]
+        else:
+            hint = _service_hint(hints.get(name, Any), kinds)
+        kwargs: dict[str, Any] = {"description": input_description(decl, *docs.get(name, ("", "")))}
+        if name in examples:
+            kwargs["examples"] = [examples[name]]
+        kwargs.update(_limit_kwargs(name, limits[name]) if name in limits else {})
+        default = ... if decl.required else decl.default
+        fields[name] = (hint, Field(default, **kwargs))
+    validators = {}
+    if check is not None:
+        def _checked(self: BaseModel) -> BaseModel:
+            check(self)
+            return self
+        _checked.__doc__ = check.__doc__
+        validators["_check"] = model_validator(mode="after")(_checked)
+    return create_model(_model_name(process_id), __base__=Params,
+                        __validators__=validators, **fields)
+
+
+def _kind_types() -> Mapping[Kind, Any]:
+    from service.catalog.inputs import KIND_TYPES
+
+    return KIND_TYPES
+
+
 @dataclass(frozen=True)
 class Process:
     """One method of the catalog, offered as one OGC process.
 
-    ``params`` is the pydantic model of its inputs; its field names are the algorithm's
-    parameter names, so ``function(**params)`` runs it. ``result`` is the dataclass the
-    function returns; its fields are the outputs.
+    Only ``id``, ``function``, ``title`` and ``description`` are required. ``params`` (the
+    pydantic model of the inputs: ``function(**params)`` runs it), ``result`` (the
+    dataclass the function returns), ``outputs`` and ``kinds`` are derived from the
+    function; see the module's docstring for what an entry adds.
     """
 
     id: str
+    function: Callable[..., Any]
     title: str
     description: str
-    function: Callable[..., Any]
-    params: type[BaseModel]
-    result: type
+    examples: Mapping[str, Any] = field(default_factory=dict)
+    """One example value per input (every required input has one): the process description
+    shows it and the tests run the process on the examples."""
+    inputs: Mapping[str, Any] = field(default_factory=dict)
+    """JSON input types (pydantic ``Annotated`` types) for parameters whose declared kind
+    has no general form here (a matrix, a list of point sets, a mesh-or-points variant)."""
+    limits: Mapping[str, Any] = field(default_factory=dict)
+    """Service caps beyond the signature's bounds, e.g. ``{"max_iterations": Le(10_000)}``:
+    what a shared service refuses to run although the algorithm could."""
+    check: Callable[[Any], None] | None = None
+    """Checks across inputs run when a request is validated (the model is passed), so that
+    a request that must fail is refused with 422 before it is queued."""
+    hidden: tuple[str, ...] = ()
+    """Parameters the service does not offer (local tuning, such as ``workers``)."""
+    geometry: Scene | None = None
+    """The GLB scene of a result, or None when its results hold no geometry."""
     version: str = "1.0.0"
     reference: str | None = None
     long: bool = False
@@ -124,11 +241,28 @@ class Process:
     time_limit: float | None = None
     """Upper bound of the job time limit for this process (the settings' default applies too)."""
     keywords: tuple[str, ...] = ()
+    params: type[BaseModel] = field(default=None)  # type: ignore[assignment]
+    """Derived from the function; an explicit model is for tests of the registry only."""
+    result: type = field(default=None)  # type: ignore[assignment]
     outputs: dict[str, Output] = field(init=False)
+    kinds: dict[str, Kind] = field(init=False)
+    """The declared kind of each array input (points, mesh, shape …)."""
     takes_progress: bool = field(init=False)
 
     def __post_init__(self) -> None:
+        if self.params is None:
+            object.__setattr__(self, "params", build_inputs(
+                self.id, self.function, kinds=_kind_types(), inputs=self.inputs,
+                examples=self.examples, limits=self.limits, hidden=self.hidden,
+                check=self.check))
+        if self.result is None:
+            hints = typing.get_type_hints(inspect.unwrap(self.function))
+            object.__setattr__(self, "result", hints["return"])
         object.__setattr__(self, "outputs", outputs_of(self.result))
+        decls = declarations(self.function)
+        object.__setattr__(self, "kinds", {
+            n: d.kind for n, d in decls.items()
+            if d.kind is not None and n in self.params.model_fields})
         sig = inspect.signature(self.function)
         object.__setattr__(self, "takes_progress", "progress" in sig.parameters)
 
@@ -139,6 +273,10 @@ class Process:
     def kwargs(self, params: BaseModel) -> dict[str, Any]:
         """The validated inputs as keyword arguments of :attr:`function` (arrays stay arrays)."""
         return {name: getattr(params, name) for name in type(params).model_fields}
+
+    def glb(self, outputs: Mapping[str, Any], inputs: Mapping[str, Any]) -> bytes | None:
+        """The GLB of a result of this process, or None when it has no geometry."""
+        return None if self.geometry is None else self.geometry(outputs, inputs, self.id)
 
     def run(self, kwargs: Mapping[str, Any], progress: Callable[..., None] | None = None
             ) -> dict[str, Any]:

@@ -19,7 +19,6 @@ from service.geometry_io import (
     MEDIA_NPY,
     negotiate,
     npy_bytes,
-    result_glb,
 )
 from service.jsonio import JSONResponse
 from service.jobs.engine import Engine
@@ -132,7 +131,8 @@ def results_response(st: State, job: JobRecord, outputs: dict[str, Any], wanted:
     else:
         doc = results_document(outputs, job.request)
     if wanted.fmt == "glb":
-        glb = result_glb(job.process, outputs, st.store.inputs(job))
+        process = lookup(job.process, test_processes=st.settings.test_processes)
+        glb = process.glb(outputs, st.store.inputs(job)) if process is not None else None
         if glb is None:
             raise ServiceError("not-acceptable", f"The results of {job.process} hold no "
                                f"geometry to send as {MEDIA_GLB}; ask for {MEDIA_JSON}.")

@@ -16,6 +16,7 @@ from pydantic import ValidationError
 from service import jsonio
 from service.auth import owner_of
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.params import Kind
 from service.binary import LIFT_CHARS, Lifted, decode_arrays, lift_base64, owned
 from service.catalog import Process, processes
 from service.errors import ServiceError
@@ -110,13 +111,17 @@ def _multipart_body(process: Process, raw: bytes, content_type: str, st: State,
 
 
 _GEOMETRY_INPUTS: dict[str, dict[str, str]] = {}
+_TAKES = {Kind.MESH: "mesh", Kind.SHAPE: "either"}
 
 
 def _takes(process: Process, name: str) -> str:
     """What an uploaded geometry file gives the input ``name``: ``"mesh"`` for a mesh input,
-    ``"either"`` for one that takes a mesh or points, else ``"points"`` (its vertices); read
-    from the alternatives of the input's JSON Schema, once per process."""
-    if process.id not in _GEOMETRY_INPUTS:
+    ``"either"`` for one that takes a mesh or points (a shape), else ``"points"`` (its
+    vertices); read from the input's declared kind."""
+    kind = process.kinds.get(name)
+    if kind is not None:
+        return _TAKES.get(kind, "points")
+    if process.id not in _GEOMETRY_INPUTS:  # TODO(#16): entries not yet declared
         schema = process.params.model_json_schema(mode="validation")
         kinds = {}
         for key, prop in schema.get("properties", {}).items():

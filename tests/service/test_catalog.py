@@ -4,9 +4,11 @@ parameter model is strict (no server, no Dask)."""
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import json
 import math
 import re
+import typing
 from dataclasses import dataclass
 from typing import Any
 
@@ -14,9 +16,17 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
+from algorithms.core.params import declarations
 from service import jsonio
 from service.catalog import lookup, processes, registry
-from service.catalog.registry import Output, Process, Registry, _numpydoc_attributes, outputs_of
+from service.catalog.registry import (
+    Output,
+    Process,
+    Registry,
+    input_description,
+    outputs_of,
+)
+from service.docstrings import numpydoc_entries, numpydoc_section, plain
 from service.diagnostics import diagnostics
 from service.problems import pydantic_errors
 from service.representation import process_description, process_summary
@@ -66,10 +76,7 @@ def test_id_is_family_dot_method(p: Process) -> None:
     assert re.fullmatch(r"[a-z][a-z0-9_]*\.[a-z][a-z0-9_]*", p.id), p.id
     family, method = p.id.split(".")
     assert p.family == family
-    # the catalog module that registers it is named after the family ...
-    module_family = p.params.__module__.rsplit(".", 1)[-1]
-    assert module_family == family, (p.id, p.params.__module__)
-    # ... and so is the algorithm's package; the method is the function's name
+    # the algorithm's package is named after the family; the method is the function's name
     if p.id in registry:
         assert p.function.__module__.split(".")[:2] == ["algorithms", family]
     assert p.function.__name__ == method
@@ -162,6 +169,157 @@ def test_process_description(p: Process) -> None:
     for name, out in desc["outputs"].items():
         assert out["description"] and out["schema"]
         _check_json_schema(out["schema"], f"{p.id}.outputs.{name}")
+
+
+# -- one place for each fact --------------------------------------------------------------
+DERIVED = [p for p in ALL if p.params.__module__ == "service.catalog.registry"]
+"""Processes whose inputs are built from their function (the catalog's target state)."""
+
+
+def _bound_keywords(schema: dict[str, Any]) -> dict[str, float]:
+    alternatives = schema.get("anyOf", [schema])
+    return {k: v for alt in alternatives for k, v in alt.items()
+            if k in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum")}
+
+
+@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+def test_inputs_are_the_signature(p: Process) -> None:
+    """Every parameter of the function is an input (but the hidden ones), with the
+    signature's default and the docstring's description, nothing else."""
+    decls = declarations(p.function)
+    assert list(p.params.model_fields) == [n for n in decls if n not in p.hidden]
+    docs = numpydoc_entries(inspect.getdoc(p.function), "Parameters")
+    for name, f in p.params.model_fields.items():
+        d = decls[name]
+        assert f.is_required() == d.required, (p.id, name)
+        if not d.required:
+            assert f.default == d.default and type(f.default) is type(d.default), (p.id, name)
+        assert docs.get(name), f"{p.id}: {name!r} has no numpydoc description"
+        assert f.description == input_description(d, *docs[name]), (p.id, name)
+        assert plain(docs[name][1]) in f.description, (p.id, name)
+
+
+@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+def test_every_input_is_declared(p: Process) -> None:
+    """Nothing is left for the service to guess: each input is a checked scalar or has a
+    declared kind (points, mesh, graph ...)."""
+    for name, d in declarations(p.function).items():
+        if name not in p.hidden:
+            assert d.checked or d.kind is not None, f"{p.id}: {name!r} declares nothing"
+    assert p.kinds == {n: d.kind for n, d in declarations(p.function).items()
+                       if d.kind is not None and n not in p.hidden}
+
+
+@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+def test_defaults_satisfy_their_declarations(p: Process) -> None:
+    for name, d in declarations(p.function).items():
+        if d.checked and not d.required:
+            assert d.check(d.default) == d.default, (p.id, name)
+
+
+@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+def test_entry_restates_nothing(p: Process) -> None:
+    """A catalog entry holds only what is the service's: no defaults or descriptions of
+    its own for the function's parameters, and caps that are tighter than the signature's
+    bounds (not copies of them)."""
+    from pydantic.fields import FieldInfo
+
+    for name, hint in p.inputs.items():
+        meta = typing.get_args(hint)[1:] if typing.get_origin(hint) is typing.Annotated else ()
+        fields = [m for m in meta if isinstance(m, FieldInfo)]
+        assert not fields, f"{p.id}: inputs[{name!r}] carries a Field (default/description)"
+    decls = declarations(p.function)
+    for name in p.limits:
+        declared = {(s.minimum, s.maximum) for s in decls[name].scalars}
+        schema = _bound_keywords(p.params.model_json_schema()["properties"][name])
+        assert schema, (p.id, name)
+        lo = schema.get("minimum", schema.get("exclusiveMinimum"))
+        hi = schema.get("maximum", schema.get("exclusiveMaximum"))
+        assert (lo, hi) not in declared, f"{p.id}: limits[{name!r}] restates the signature"
+
+
+@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+def test_declared_bounds_reach_the_schema(p: Process) -> None:
+    props = p.params.model_json_schema()["properties"]
+    for name, d in declarations(p.function).items():
+        if name in p.hidden or name in p.inputs or len(d.scalars) != 1:
+            continue
+        s = d.scalars[0]
+        got = _bound_keywords(props[name])
+        if s.type is str:
+            alts = props[name].get("anyOf", [props[name]])
+            assert [a["enum"] for a in alts if "enum" in a] == [list(s.choices)], (p.id, name)
+        if s.minimum is not None:
+            key = "minimum" if s.inclusive[0] else "exclusiveMinimum"
+            assert got.get(key) == s.minimum, (p.id, name, got)
+        if s.maximum is not None and name not in p.limits:
+            key = "maximum" if s.inclusive[1] else "exclusiveMaximum"
+            assert got.get(key) == s.maximum, (p.id, name, got)
+
+
+def test_plain_text_of_docstrings() -> None:
+    assert plain("``k >= 1``, see :func:`~algorithms.alignment.pca` [1]_") == \
+        "`k >= 1`, see `pca`"
+    assert plain(r":math:`\lVert R x_i - y_i \rVert^2` with :math:`\hat\sigma`") == \
+        "‖R xᵢ - yᵢ‖² with σ̂"
+    assert plain(r":math:`R^\mathsf{T} R = I`, :math:`\exp(-d^2/2\sigma^2)`") == \
+        "Rᵀ R = I, exp(-d²/2σ²)"
+
+
+def test_numpydoc_parameters_with_shared_entries() -> None:
+    doc = """Summary.
+
+    Parameters
+    ----------
+    min_points, max_points : int, optional
+        Bounds on the number of points.
+
+        A second paragraph.
+    name : str
+        The name.
+
+    Returns
+    -------
+    int
+    """
+    assert numpydoc_section(doc, "Parameters") == {
+        "min_points": "Bounds on the number of points.\n\nA second paragraph.",
+        "max_points": "Bounds on the number of points.\n\nA second paragraph.",
+        "name": "The name.",
+    }
+
+
+def test_entries_name_only_parameters() -> None:
+    from service.catalog.registry import build_inputs
+
+    def f(x: int = 1) -> _HandResult:
+        """Parameters
+        ----------
+        x : int
+            Ex.
+        """
+        raise AssertionError
+
+    for key in ("inputs", "examples", "limits"):
+        kw: dict[str, Any] = {"inputs": {}, "examples": {}, "limits": {}, key: {"y": 1}}
+        with pytest.raises(TypeError, match=f"{key} names no parameter: \\['y'\\]"):
+            build_inputs("test.f", f, kinds={}, hidden=(), check=None, **kw)
+
+
+@pytest.mark.parametrize("p", ALL, ids=_ids)
+def test_geometry_is_declared(p: Process) -> None:
+    """A process shows a GLB exactly when its entry declares a scene, and the scene is one
+    of service.scenes's builders; for the examples, it is a GLB (or None by design)."""
+    from service import scenes
+
+    if p.geometry is None:
+        return
+    assert p.geometry.__module__ == "service.scenes" and p.geometry.__name__ in scenes.__all__
+    if p.id in NEVER_RUN or p.id.startswith("diagnostics."):
+        return
+    kwargs = p.kwargs(p.params.model_validate(_example_inputs(p), context={"max_points": 1000}))
+    glb = p.glb(p.run(kwargs), kwargs)
+    assert glb is not None and glb[:4] == b"glTF", p.id
 
 
 # -- running the examples ------------------------------------------------------------------
@@ -325,14 +483,14 @@ _DOC = """One line summary.
 
 
 def test_numpydoc_attributes_before_another_section() -> None:
-    got = _numpydoc_attributes(_DOC)
+    got = numpydoc_section(_DOC, "Attributes")
     assert "Notes" not in got and "delta" not in got
     assert got["alpha"] == "The first value. It has two sentences."
     assert got["beta_2"] == "The second value, on two lines."
 
 
 def test_numpydoc_last_attribute_before_another_section_is_kept() -> None:
-    assert _numpydoc_attributes(_DOC) == {
+    assert numpydoc_section(_DOC, "Attributes") == {
         "alpha": "The first value. It has two sentences.",
         "beta_2": "The second value, on two lines.",
         "gamma": "",
@@ -351,7 +509,7 @@ def test_numpydoc_single_attribute_before_notes() -> None:
     -----
     Nothing.
     """
-    assert _numpydoc_attributes(doc) == {"rmse": "The residual."}
+    assert numpydoc_section(doc, "Attributes") == {"rmse": "The residual."}
 
 
 def test_numpydoc_attributes_at_the_end() -> None:
@@ -365,7 +523,7 @@ def test_numpydoc_attributes_at_the_end() -> None:
         Why,
         because.
     """
-    assert _numpydoc_attributes(doc) == {"x": "Ex.", "y": "Why, because."}
+    assert numpydoc_section(doc, "Attributes") == {"x": "Ex.", "y": "Why, because."}
 
 
 def test_numpydoc_first_line_on_the_quotes() -> None:
@@ -374,13 +532,13 @@ def test_numpydoc_first_line_on_the_quotes() -> None:
     slept : float
         Seconds.
     """
-    assert _numpydoc_attributes(doc) == {"slept": "Seconds."}
+    assert numpydoc_section(doc, "Attributes") == {"slept": "Seconds."}
 
 
 @pytest.mark.parametrize("doc", [None, "", "Summary only.", "Attributes\nnot underlined\n",
                                  "Parameters\n----------\nx : int\n    Not an attribute.\n"])
 def test_numpydoc_without_attributes(doc: str | None) -> None:
-    assert _numpydoc_attributes(doc) == {}
+    assert numpydoc_section(doc, "Attributes") == {}
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,112 @@
+"""Docstrings as the service shows them: numpydoc sections read, reStructuredText made plain.
+
+The algorithms document their parameters and results in numpydoc; the service's process
+descriptions (and everything built on them: the OpenAPI document, the SDK) take those texts
+from there (:mod:`service.catalog.registry`), so each is written once.
+"""
+
+from __future__ import annotations
+
+import inspect
+import re
+
+__all__ = ["numpydoc_section", "numpydoc_entries", "plain"]
+
+
+def numpydoc_section(doc: str | None, title: str) -> dict[str, str]:
+    """``name : type`` entries of a numpydoc section and their (joined) descriptions.
+
+    ``a, b : int`` documents both names with one description. Continuation lines are joined
+    with spaces; a blank line inside a description becomes a paragraph break."""
+    return {n: desc for n, (_, desc) in numpydoc_entries(doc, title).items()}
+
+
+def numpydoc_entries(doc: str | None, title: str) -> dict[str, tuple[str, str]]:
+    """Like :func:`numpydoc_section`, with each entry's type as written (``(n, d) float
+    array, optional``) beside its description."""
+    if not doc:
+        return {}
+    lines = inspect.cleandoc(doc).splitlines()
+    try:
+        start = next(i for i, ln in enumerate(lines)
+                     if ln.strip() == title and i + 1 < len(lines)
+                     and set(lines[i + 1].strip()) == {"-"})
+    except StopIteration:
+        return {}
+    body = lines[start + 2:]
+    out: dict[str, tuple[str, list[str]]] = {}
+    names: list[str] = []
+    for i, ln in enumerate(body):
+        nxt = body[i + 1].strip() if i + 1 < len(body) else ""
+        if ln.strip() and not ln.startswith(" ") and nxt and set(nxt) == {"-"}:
+            break  # the title of the next section
+        m = re.match(r"^(\w+(?:\s*,\s*\w+)*)\s*(?::\s*(.*))?$", ln)
+        if m and not ln.startswith(" ") and ln.strip():
+            names = [n.strip() for n in m.group(1).split(",")]
+            for n in names:
+                out[n] = ((m.group(2) or "").strip(), [])
+        elif names:
+            for n in names:
+                out[n][1].append(ln.strip())
+    return {n: (kind, _join(parts)) for n, (kind, parts) in out.items()}
+
+
+def _join(lines: list[str]) -> str:
+    paragraphs, current = [], []
+    for ln in lines:
+        if ln:
+            current.append(ln)
+        elif current:
+            paragraphs.append(" ".join(current))
+            current = []
+    if current:
+        paragraphs.append(" ".join(current))
+    return "\n\n".join(paragraphs)
+
+
+_LATEX = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "epsilon": "ε", "varepsilon": "ε",
+    "lambda": "λ", "mu": "μ", "nu": "ν", "sigma": "σ", "theta": "θ", "omega": "ω", "pi": "π",
+    "tau": "τ", "phi": "φ", "rho": "ρ", "eta": "η", "kappa": "κ", "Sigma": "Σ", "Delta": "Δ",
+    "le": "≤", "leq": "≤", "ge": "≥", "geq": "≥", "ne": "≠", "neq": "≠", "cdot": "·",
+    "times": "×", "infty": "∞", "sum": "Σ", "lVert": "‖", "rVert": "‖", "|": "‖",
+    "approx": "≈", "in": "∈", "to": "→", "propto": "∝", "partial": "∂", "nabla": "∇",
+    "sqrt": "√", "ldots": "…", "dots": "…", "top": "ᵀ", "circ": "∘", "pm": "±",
+}
+_SUPERSCRIPT = str.maketrans("0123456789-+T", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺ᵀ")
+_SUBSCRIPT = str.maketrans("0123456789aehijklmnoprstuvx", "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ")
+
+
+def _math(expr: str) -> str:
+    """A LaTeX formula as readable plain text: Greek letters and relations as Unicode,
+    simple superscripts raised, other commands and braces dropped."""
+    expr = re.sub(r"\\(?:operatorname|mathrm|mathbf|mathbb|mathsf|text|mathcal)\{([^{}]*)\}",
+                  r"\1", expr)
+    expr = re.sub(r"\\lVert\s*", "‖", expr)
+    expr = re.sub(r"\s*\\rVert", "‖", expr)
+    expr = re.sub(r"\\(?:left|right|big|Big|bigl|bigr)(?![a-zA-Z])", "", expr)
+    expr = re.sub(r"\\[,;!:]|\\quad|\\qquad|~", " ", expr)
+    expr = re.sub(r"\\hat\s*\{?(?:\\([a-zA-Z]+)|(\w))\}?",
+                  lambda m: (_LATEX.get(m.group(1), m.group(1)) if m.group(1) else m.group(2))
+                  + "\u0302", expr)
+    expr = re.sub(r"\\(?:tilde|bar|hat)\s*", "", expr)
+    expr = re.sub(r"\\([a-zA-Z]+|\|)", lambda m: _LATEX.get(m.group(1), m.group(1)), expr)
+    expr = re.sub(r"\^\{?([0-9T+-]+)\}?",
+                  lambda m: m.group(1).translate(_SUPERSCRIPT)
+                  if len(m.group(1)) <= 3 else "^" + m.group(1), expr)
+    expr = re.sub(r"_\{?([0-9a-z])\}?(?![0-9a-zA-Z])",
+                  lambda m: m.group(1).translate(_SUBSCRIPT), expr)
+    expr = expr.replace("{", "").replace("}", "")
+    return re.sub(r"\s+", " ", expr).strip()
+
+
+def plain(text: str) -> str:
+    """reStructuredText of a docstring as the plain text (with Markdown code spans) of a
+    process description: ````x```` and cross-references become ```x```, :math: roles
+    readable formulas."""
+    text = re.sub(r":math:`([^`]*)`", lambda m: _math(m.group(1)), text)
+    text = re.sub(r":(?:\w+:)?\w+:`~?(?:[\w.]*\.)?([^`<]*?)(?:\s*<[^>]*>)?`",
+                  lambda m: f"`{m.group(1)}`", text)
+    text = re.sub(r"``([^`]+)``", r"`\1`", text)
+    text = re.sub(r"\s*\[\d+\]_", "", text)  # citations: the process lists its references
+    return text.replace("\\ ", "").strip()
