@@ -26,6 +26,7 @@ from algorithms.embedding.tsne import (
     _row_entropy,
     _SparseAttraction,
     affinities,
+    initial_embedding,
 )
 
 DIGITS = load_digits().data
@@ -187,20 +188,51 @@ def test_sparse_attraction_matches_dense(monkeypatch: pytest.MonkeyPatch) -> Non
     assert plogw == pytest.approx(float((pd[pd > 0] * np.log(w[pd > 0])).sum()))
 
 
+#: scikit-learn's exact t-SNE with every part of its schedule stated, so that the comparison
+#: does not follow the installed version's defaults (``max_iter`` is ``n_iter`` before 1.5).
+#: Its own start is not used: from 1.8 its PCA start is an exact SVD, before a randomized
+#: one, and t-SNE is chaotic in its start (a relative change of 1e-9 in it moves the final
+#: KL of one run on these points anywhere in 0.20-0.26, ours and scikit-learn's alike), so
+#: one run against one run compares two draws, not two optimisers.
+_PEER_SCHEDULE = {"method": "exact", "perplexity": 20.0, "early_exaggeration": 12.0,
+                  "learning_rate": 50.0, "min_grad_norm": 1e-7,
+                  "n_iter_without_progress": 1000,       # never: all 1000 steps run
+                  ("max_iter" if "max_iter" in TSNE().get_params() else "n_iter"): 1000}
+_STARTS = 12
+
+
+@pytest.mark.slow
 def test_exact_agrees_with_sklearn_exact() -> None:
     x = DIGITS[:150]
-    ours = tsne(x, method="exact", perplexity=20)
-    with threadpool_limits(1):
-        peer = TSNE(method="exact", perplexity=20, init="pca", random_state=0).fit(x)
     p = affinities(x, 20.0, dense=True)          # the same P as scikit-learn's exact
-    t_peer = trustworthiness(x, peer.embedding_, n_neighbors=5)
-    assert ours.method == "exact" and ours.iterations <= 1000
-    assert ours.trustworthiness >= t_peer - 0.005
+    # our defaults (PCA start, 750 steps): a sound result, the KL the one of the embedding
+    ours = tsne(x, method="exact", perplexity=20)
+    assert ours.method == "exact" and ours.iterations <= 750
     # scikit-learn's function, up to ties of equal distances (digits are integers)
     assert ours.trustworthiness == pytest.approx(trustworthiness(x, ours.embedding), abs=1e-4)
     assert ours.kl_divergence == pytest.approx(_kl(p, ours.embedding), rel=1e-9)
-    assert ours.kl_divergence <= 1.03 * _kl(p, peer.embedding_)
-    assert ours.kl_divergence <= 1.03 * peer.kl_divergence_
+    # the two optimisers on equal terms: the same starts (ours from each seed, given to
+    # scikit-learn as its init), the same schedule (250 exaggerated steps of 12 with
+    # momentum 0.5, then 0.8; step 50 throughout, which is also both "auto"s at n = 150;
+    # 1000 steps in all), and the mean KL over the starts
+    kl_ours, kl_peer, kl_peer_own, t_ours, t_peer = [], [], [], [], []
+    for seed in range(_STARTS):
+        run = tsne(x, method="exact", perplexity=20, init="random", seed=seed,
+                   learning_rate=50.0, early_exaggeration=12.0, exaggeration_iterations=250,
+                   max_iterations=1000, min_grad_norm=1e-7)
+        start = initial_embedding(x, 2, "random", np.random.default_rng(seed))
+        with threadpool_limits(1):
+            peer = TSNE(init=start, **_PEER_SCHEDULE).fit(x)
+        assert run.iterations == 1000 and peer.n_iter_ == 999     # its last step's index
+        kl_ours.append(run.kl_divergence)
+        kl_peer.append(_kl(p, peer.embedding_))
+        kl_peer_own.append(peer.kl_divergence_)
+        t_ours.append(run.trustworthiness)
+        t_peer.append(trustworthiness(x, peer.embedding_, n_neighbors=5))
+    assert np.mean(kl_ours) <= 1.03 * np.mean(kl_peer)
+    assert np.mean(kl_ours) <= 1.03 * np.mean(kl_peer_own)
+    assert np.mean(t_ours) >= np.mean(t_peer) - 0.005
+    assert ours.trustworthiness >= np.mean(t_peer) - 0.005
 
 
 def test_fft_agrees_with_sklearn_barnes_hut() -> None:
