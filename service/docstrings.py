@@ -71,15 +71,28 @@ _LATEX = {
     "le": "≤", "leq": "≤", "ge": "≥", "geq": "≥", "ne": "≠", "neq": "≠", "cdot": "·",
     "times": "×", "infty": "∞", "sum": "Σ", "lVert": "‖", "rVert": "‖", "|": "‖",
     "approx": "≈", "in": "∈", "to": "→", "propto": "∝", "partial": "∂", "nabla": "∇",
-    "sqrt": "√", "ldots": "…", "dots": "…", "top": "ᵀ", "circ": "∘", "pm": "±",
+    "sqrt": "√", "ldots": "…", "dots": "…", "cdots": "⋯", "top": "ᵀ", "circ": "∘", "pm": "±",
+    "leftarrow": "←", "rightarrow": "→", "mapsto": "↦", "Rightarrow": "⇒", "odot": "⊙",
+    "forall": "∀", "exists": "∃", "subset": "⊂", "cup": "∪", "cap": "∩", "emptyset": "∅",
 }
 _SUPERSCRIPT = str.maketrans("0123456789-+T", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺ᵀ")
-_SUBSCRIPT = str.maketrans("0123456789aehijklmnoprstuvx", "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ")
+_SUBSCRIPT_CHARS = "0123456789aehijklmnoprstuvx+-="
+_SUBSCRIPT = str.maketrans(_SUBSCRIPT_CHARS, "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ₊₋₌")
+
+
+def _lower(m: re.Match[str]) -> str:
+    """A subscript lowered when Unicode has every character of it, else ``_(...)``."""
+    sub = m.group(1) if m.group(1) is not None else m.group(2)
+    if all(c in _SUBSCRIPT_CHARS for c in sub):
+        return sub.translate(_SUBSCRIPT)
+    return f"_({sub})"
 
 
 def _math(expr: str) -> str:
     """A LaTeX formula as readable plain text: Greek letters and relations as Unicode,
     simple superscripts raised, other commands and braces dropped."""
+    expr = re.sub(r"\\[dt]?frac\{([^{}]*)\}\{([^{}]*)\}",
+                  lambda m: "/".join(p if p.isalnum() else f"({p})" for p in m.groups()), expr)
     expr = re.sub(r"\\(?:operatorname|mathrm|mathbf|mathbb|mathsf|text|mathcal)\{([^{}]*)\}",
                   r"\1", expr)
     expr = re.sub(r"\\lVert\s*", "‖", expr)
@@ -94,8 +107,7 @@ def _math(expr: str) -> str:
     expr = re.sub(r"\^\{?([0-9T+-]+)\}?",
                   lambda m: m.group(1).translate(_SUPERSCRIPT)
                   if len(m.group(1)) <= 3 else "^" + m.group(1), expr)
-    expr = re.sub(r"_\{?([0-9a-z])\}?(?![0-9a-zA-Z])",
-                  lambda m: m.group(1).translate(_SUBSCRIPT), expr)
+    expr = re.sub(r"_\{([^{}]*)\}|_([0-9a-z])(?![0-9a-zA-Z])", _lower, expr)
     expr = expr.replace("{", "").replace("}", "")
     return re.sub(r"\s+", " ", expr).strip()
 

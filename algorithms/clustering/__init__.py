@@ -3,8 +3,12 @@
 * :func:`spectral` — k-means on the normalised-Laplacian embedding (Ng, Jordan, Weiss);
 * :func:`markov` — Markov clustering (MCL) by expansion and inflation.
 
-Both build the neighbour graph of the points with the shared parameters ``neighbors``
-(knn, radius, all), ``n_neighbors``, ``radius``, ``weighting`` (uniform, distance, heat).
+Both build the neighbour graph of the points with the parameters of
+:func:`algorithms.core.graphs.neighbour_graph`, declared alike in both signatures:
+``neighbors`` (:data:`~algorithms.core.graphs.Neighbors`: knn, radius, all),
+``n_neighbors``, ``radius``, ``weighting``
+(:data:`~algorithms.core.graphs.GraphWeighting`: uniform, distance, heat) and
+``sigma``.
 """
 
 from algorithms.clustering.markov import MarkovClusteringResult, markov

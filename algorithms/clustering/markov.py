@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -13,10 +13,11 @@ from scipy.sparse.csgraph import connected_components
 
 from algorithms.clustering._kmeans import canonical_labels
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
-from algorithms.core.graphs import as_graph, edge_graph, neighbour_graph
+from algorithms.core.graphs import GraphWeighting, Neighbors, as_graph, edge_graph, neighbour_graph
+from algorithms.core.params import Ge, GraphLike, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_float, as_int, as_points
+from algorithms.core.types import IntArray
+from algorithms.core.validation import as_points
 
 __all__ = ["MarkovClusteringResult", "markov"]
 
@@ -51,21 +52,22 @@ class MarkovClusteringResult:
     converged: bool
 
 
+@validate_params
 def markov(
-    points: Any = None,
+    points: PointsLike | None = None,
     *,
-    graph: Any = None,
-    neighbors: str = "knn",
-    n_neighbors: int = 10,
-    radius: float | None = None,
-    weighting: str = "uniform",
-    sigma: float | None = None,
-    expansion: int = 2,
-    inflation: float = 2.0,
-    self_loops: float = 1.0,
-    pruning_threshold: float = 1e-4,
-    max_iterations: int = 100,
-    tolerance: float = 1e-6,
+    graph: GraphLike | None = None,
+    neighbors: Neighbors = "knn",
+    n_neighbors: Annotated[int, Ge(1)] = 10,
+    radius: Annotated[float, Gt(0)] | None = None,
+    weighting: GraphWeighting = "uniform",
+    sigma: Annotated[float, Gt(0)] | None = None,
+    expansion: Annotated[int, Ge(2)] = 2,
+    inflation: Annotated[float, Gt(1)] = 2.0,
+    self_loops: Annotated[float, Ge(0)] = 1.0,
+    pruning_threshold: Annotated[float, Interval(ge=0, lt=1)] = 1e-4,
+    max_iterations: Annotated[int, Ge(1)] = 100,
+    tolerance: Annotated[float, Ge(0)] = 1e-6,
     progress: Progress | None = None,
 ) -> MarkovClusteringResult:
     r"""Cluster a graph, or the neighbour graph of points, by Markov clustering (MCL).
@@ -87,24 +89,41 @@ def markov(
     Parameters
     ----------
     points : (n, d) float array, optional
-        Points whose neighbour graph is clustered. Exactly one of ``points`` and ``graph``.
+        Points whose neighbour graph is clustered, ``n >= 2``. Exactly one of ``points``
+        and ``graph``.
     graph : Graph or mapping, optional
-        ``{"nodes": n, "edges": (e, 2), "weights"?: (e,)}``, non-negative weights (default
-        1); clustered as it is.
-    neighbors, n_neighbors, radius, weighting, sigma
-        The neighbour graph of ``points`` (as for :func:`~algorithms.clustering.spectral`).
-        ``weighting="heat"`` suits MCL best where distances vary.
+        Instead of ``points``: a graph ``{"nodes": n, "edges": (e, 2), "weights"?: (e,)}``
+        with non-negative weights (default 1), clustered as it is.
+    neighbors : {"knn", "radius", "all"}, default "knn"
+        The neighbour graph of ``points``: ``"knn"`` joins each point to its
+        ``n_neighbors`` nearest (the union of the two directions), ``"radius"`` to every
+        point within ``radius``, ``"all"`` to every point (at most 10,000 points).
+    n_neighbors : int, default 10
+        Neighbours per point with ``neighbors="knn"``; at most the number of points minus
+        one.
+    radius : float, optional
+        The radius with ``neighbors="radius"``, required there.
+    weighting : {"uniform", "distance", "heat"}, default "uniform"
+        Edge weights of the neighbour graph from the edge lengths :math:`d`: ``"uniform"``
+        1, ``"distance"`` :math:`1/d`, or ``"heat"`` the heat kernel
+        :math:`\exp(-d^2/2\sigma^2)`, which suits MCL best where distances vary.
+    sigma : float, optional
+        The heat kernel's width :math:`\sigma`; the mean edge length when omitted.
     expansion : int, default 2
-        The power ``e >= 2``.
+        The power ``e >= 2`` of the expansion, the walk's steps per round.
     inflation : float, default 2.0
-        The power ``r > 1``; larger gives more, smaller clusters.
+        The elementwise power ``r > 1`` of the inflation; larger gives more, smaller
+        clusters.
     self_loops : float, default 1.0
         Weight added on the diagonal of :math:`A` before normalising (van Dongen's
         recommendation; avoids parity oscillations). 0 adds none.
     pruning_threshold : float, default 1e-4
-        Entries of :math:`M` below this are set to zero after each inflation.
+        Entries of :math:`M` below this are set to zero after each inflation (a column's
+        largest entry is always kept), in ``[0, 1)``.
     max_iterations : int, default 100
+        Most expansion-inflation rounds.
     tolerance : float, default 1e-6
+        Stop when no entry of :math:`M` changes by ``tolerance`` or more in a round.
     progress : callable, optional
         ``progress(iteration, max_iterations, message)`` after each iteration; may raise
         :class:`~algorithms.core.errors.Cancelled`.
@@ -127,11 +146,12 @@ def markov(
 
     Notes
     -----
-    The seed document reads MCL as "the adjacency matrix raised to an infinite power: the
-    final distribution of a random walk of infinitely many steps". Pure powers would
-    converge to the stationary distribution of each connected component (one cluster per
-    component); inflation is what stops the walk from mixing across weakly joined groups,
-    and the result is the partition of that limit's attractors.
+    **Inflation is what clusters.** MCL is sometimes read as the adjacency matrix raised
+    to an infinite power, the final distribution of a random walk of infinitely many
+    steps. Pure powers converge to the stationary distribution of each connected
+    component: one cluster per component, whatever its structure. Inflation is what
+    keeps the walk from mixing across weakly joined groups; the clusters are read from
+    the attractors of that limit.
 
     Disconnected graphs need no special handling: no mass ever crosses between components,
     so each component is clustered on its own.
@@ -155,17 +175,10 @@ def markov(
     report = as_progress(progress)
     a = _adjacency(points, graph, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
                    weighting=weighting, sigma=sigma)
-    e = as_int(expansion, name="expansion", minimum=2)
-    r = as_float(inflation, name="inflation", minimum=1.0, inclusive=False)
-    loops = as_float(self_loops, name="self_loops", minimum=0.0)
-    prune = as_float(pruning_threshold, name="pruning_threshold", minimum=0.0, maximum=1.0,
-                     inclusive=(True, False))
-    iters = as_int(max_iterations, name="max_iterations", minimum=1)
-    tol = as_float(tolerance, name="tolerance", minimum=0.0)
     name = "points" if graph is None else "graph"
     n = a.shape[0]
-    if loops > 0:
-        a = (a + loops * sp.eye_array(n, format="csr")).tocsr()
+    if self_loops > 0:
+        a = (a + self_loops * sp.eye_array(n, format="csr")).tocsr()
     col = np.asarray(a.sum(axis=0)).ravel()
     if (col <= 0).any():
         i = int(np.argmax(col <= 0))
@@ -175,20 +188,20 @@ def markov(
     m = _normalise(a)
     converged = False
     it = 0
-    while it < iters:
+    while it < max_iterations:
         prev = m
-        for _ in range(e - 1):
+        for _ in range(expansion - 1):
             m = (m @ prev).tocsc()
-        m = _inflate(m, r, prune)
+        m = _inflate(m, inflation, pruning_threshold)
         it += 1
         delta = abs(m - prev).max() if m.nnz or prev.nnz else 0.0
-        report(it, iters, f"change {delta:.3g}, {m.nnz} non-zeros")
-        if delta < tol:
+        report(it, max_iterations, f"change {delta:.3g}, {m.nnz} non-zeros")
+        if delta < tolerance:
             converged = True
             break
     if not converged:
         warnings.warn(f"Markov clustering stopped after {it} iterations before the matrix "
-                      f"changed by less than {tol:g}; labels are read from the last matrix.",
+                      f"changed by less than {tolerance:g}; labels are read from the last matrix.",
                       ConvergenceWarning, stacklevel=2)
     labels, attractors = _read_clusters(m.tocsc())
     labels, _ = canonical_labels(labels)

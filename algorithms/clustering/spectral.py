@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 import scipy.linalg as la
@@ -15,9 +15,10 @@ from scipy.sparse.linalg import eigsh
 
 from algorithms.clustering._kmeans import kmeans
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.graphs import neighbour_graph
+from algorithms.core.graphs import GraphWeighting, Neighbors, neighbour_graph
 from algorithms.core.laplacian import normalized_laplacian
-from algorithms.core.types import FloatArray, IntArray, RngLike
+from algorithms.core.params import Ge, Gt, PointsLike, Seed, validate_params
+from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_int, as_points
 
 __all__ = ["SpectralClusteringResult", "spectral", "DENSE_BELOW"]
@@ -60,17 +61,18 @@ class SpectralClusteringResult:
     graph_components: int
 
 
+@validate_params
 def spectral(
-    points: Any,
+    points: PointsLike,
     *,
-    n_clusters: int = 8,
-    neighbors: str = "knn",
-    n_neighbors: int = 10,
-    radius: float | None = None,
-    weighting: str = "uniform",
-    sigma: float | None = None,
-    n_init: int = 10,
-    seed: RngLike = 0,
+    n_clusters: Annotated[int, Ge(1)] = 8,
+    neighbors: Neighbors = "knn",
+    n_neighbors: Annotated[int, Ge(1)] = 10,
+    radius: Annotated[float, Gt(0)] | None = None,
+    weighting: GraphWeighting = "uniform",
+    sigma: Annotated[float, Gt(0)] | None = None,
+    n_init: Annotated[int, Ge(1)] = 10,
+    seed: Seed = 0,
 ) -> SpectralClusteringResult:
     r"""Cluster points by k-means on the spectral embedding of their neighbour graph.
 
@@ -86,20 +88,24 @@ def spectral(
     Parameters
     ----------
     points : (n, d) float array
+        The points to cluster, ``n >= 2``.
     n_clusters : int, default 8
-        The number of clusters ``k``, ``1 <= k <= n``.
+        The number of clusters ``k``, at most the number of points.
     neighbors : {"knn", "radius", "all"}, default "knn"
-        The neighbour graph: each point joined to its ``n_neighbors`` nearest (union), to
-        every point within ``radius``, or to every point.
+        The neighbour graph: ``"knn"`` joins each point to its ``n_neighbors`` nearest
+        (the union of the two directions), ``"radius"`` to every point within ``radius``,
+        ``"all"`` to every point (at most 10,000 points).
     n_neighbors : int, default 10
-        For ``"knn"``; at most ``n - 1``.
+        Neighbours per point with ``neighbors="knn"``; at most the number of points minus
+        one.
     radius : float, optional
-        For ``"radius"``; required there.
+        The radius with ``neighbors="radius"``, required there.
     weighting : {"uniform", "distance", "heat"}, default "uniform"
-        Edge weights: 1 (scikit-learn's ``affinity="nearest_neighbors"``), :math:`1/d`, or
-        the heat kernel :math:`e^{-d^2/2\sigma^2}`.
+        Edge weights from the edge lengths :math:`d`: ``"uniform"`` 1 (scikit-learn's
+        ``affinity="nearest_neighbors"``), ``"distance"`` :math:`1/d`, or ``"heat"`` the
+        heat kernel :math:`\exp(-d^2/2\sigma^2)`.
     sigma : float, optional
-        The heat kernel's width; the mean edge length by default.
+        The heat kernel's width :math:`\sigma`; the mean edge length when omitted.
     n_init : int, default 10
         k-means++ starts; the one with the least inertia is kept.
     seed : int or numpy Generator, default 0
@@ -129,12 +135,12 @@ def spectral(
 
     Notes
     -----
-    The seed document describes the method plainly: adjust the data's shape by a graph
-    Laplacian analysis, then run k-means ("that is all; it has little to do with
-    'spectral'"). It disputes the claim, found in the literature, that the method solves a
-    relaxation of a cut problem exactly: cut indicators are 0/1 vectors, the eigenvectors
-    are not, so the eigenvectors are only a relaxed embedding and the k-means step is what
-    makes the partition discrete. We follow the seed and present it that way.
+    **An embedding, then k-means; no exact cut.** The method reshapes the data by the
+    eigenvectors of a graph Laplacian and then runs k-means on them. It is often said to
+    solve a relaxation of a (normalised) cut problem exactly; it does not produce a cut.
+    Cut indicators are 0/1 vectors and the eigenvectors are not, so the eigenvectors are
+    only a relaxed embedding of the points, and the k-means step is what makes the
+    partition discrete, with no guarantee that it is the best cut.
 
     Eigenvectors: a dense symmetric eigensolver below ``DENSE_BELOW`` points; above, the
     Lanczos solver (ARPACK) on :math:`I + D^{-1/2} W D^{-1/2}` (eigenvalues in [0, 2],
@@ -164,7 +170,6 @@ def spectral(
     n = x.shape[0]
     k = as_int(n_clusters, name="n_clusters", minimum=1, maximum=n,
                reason="the number of `points`")
-    n_init = as_int(n_init, name="n_init", minimum=1)
     w = neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
                         weighting=weighting, sigma=sigma)
     ncomp = int(connected_components(w, directed=False)[0])

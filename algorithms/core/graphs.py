@@ -24,6 +24,7 @@ Then :func:`algorithms.core.laplacian.laplacian` gives ``L = D - W``.
 
 from __future__ import annotations
 
+import typing
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -47,12 +48,18 @@ from algorithms.core.validation import (
 )
 
 __all__ = ["Graph", "as_graph", "edge_graph", "knn_graph", "radius_graph", "weight", "graph_from_pairs",
-           "neighbour_graph", "check_n_neighbors", "check_connected", "NEIGHBORS",
+           "neighbour_graph", "check_n_neighbors", "check_connected", "Neighbors",
+           "GraphWeighting", "NEIGHBORS",
            "WEIGHTINGS", "MAX_COMPLETE"]
 
+Neighbors = Literal["knn", "radius", "all"]
+"""How the point-cloud methods build their neighbour graph: each point joined to its
+``n_neighbors`` nearest, to every point within ``radius``, or to every point."""
+GraphWeighting = Literal["uniform", "distance", "heat"]
+"""Edge weights of a neighbour graph: 1, 1/d, or the heat kernel exp(-d²/2σ²)."""
 #: Accepted values of ``neighbors`` and ``weighting`` in :func:`neighbour_graph`.
-NEIGHBORS = ("knn", "radius", "all")
-WEIGHTINGS = ("uniform", "distance", "heat")
+NEIGHBORS: tuple[str, ...] = typing.get_args(Neighbors)
+WEIGHTINGS: tuple[str, ...] = typing.get_args(GraphWeighting)
 
 #: Most points for ``neighbors="all"`` (a dense ``n×n`` graph: 10,000 points, 800 MB).
 MAX_COMPLETE = 10_000

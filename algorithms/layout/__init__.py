@@ -1,8 +1,21 @@
 """Layout ("drawing"): positions for the vertices of a mesh or the nodes of a graph with
 some of them pinned (``laplacian``, ``poisson``), or for points known only by their pairwise
-distances (``mds``, ``stress``)."""
+distances (``mds``, ``stress``).
 
-from algorithms.core.graphs import Graph, as_graph
+The checks of the alternative inputs (:func:`mesh_or_graph`, :func:`distance_source`) and
+of distance matrices (:func:`as_distance_matrix`, :func:`distance_pairs_matrix`) are public,
+so that a caller (the service) can refuse a request before running it with the very checks
+and messages of the methods. :class:`~algorithms.core.graphs.Graph`, the graph input of
+every layout, is re-exported from :mod:`algorithms.core.graphs`.
+"""
+
+from algorithms.core.graphs import Graph
+from algorithms.layout._inputs import (
+    as_distance_matrix,
+    distance_pairs_matrix,
+    distance_source,
+    mesh_or_graph,
+)
 from algorithms.layout.laplacian import LaplacianLayoutResult, laplacian
 from algorithms.layout.mds import MDSResult, mds
 from algorithms.layout.poisson import PoissonLayoutResult, poisson
@@ -10,7 +23,6 @@ from algorithms.layout.stress import StressResult, stress
 
 __all__ = [
     "Graph",
-    "as_graph",
     "LaplacianLayoutResult",
     "laplacian",
     "MDSResult",
@@ -19,4 +31,8 @@ __all__ = [
     "poisson",
     "StressResult",
     "stress",
+    "mesh_or_graph",
+    "distance_source",
+    "as_distance_matrix",
+    "distance_pairs_matrix",
 ]

@@ -1,5 +1,7 @@
-"""Inputs shared by the layout methods: distance matrices (full, with missing entries, or as
-a list of known pairs) and the distances of a graph (:func:`~algorithms.core.graphs.as_graph`).
+"""Inputs shared by the layout methods: which of the alternative inputs was given (a mesh
+or a graph; a distance matrix, a list of pairs or a graph), distance matrices (full, with
+missing entries, or as a list of known pairs) and the distances of a graph
+(:func:`~algorithms.core.graphs.as_graph`).
 
 Every checker takes the input's ``name`` and raises
 :class:`~algorithms.core.errors.InvalidInputError` naming it (``graph.edges``,
@@ -30,12 +32,54 @@ from algorithms.core.validation import (
 )
 
 __all__ = [
+    "mesh_or_graph",
+    "distance_source",
     "as_distance_matrix",
     "distance_pairs_matrix",
     "check_connected",
     "graph_distances",
     "resolve_distances",
 ]
+
+
+def _exactly_one(inputs: dict[str, Any]) -> str:
+    """The name of the one input of ``inputs`` that is not None; else an error naming the
+    first input (none given) or the second one given."""
+    given = [k for k, v in inputs.items() if v is not None]
+    if len(given) != 1:
+        *first, last = [f"`{k}`" for k in inputs]
+        got = "none" if not given else " and ".join(f"`{g}`" for g in given)
+        raise InvalidInputError(
+            f"Expected exactly one of {', '.join(first)} and {last}, got {got}.",
+            field=given[1] if given else next(iter(inputs)))
+    return given[0]
+
+
+def mesh_or_graph(mesh: Any, graph: Any, weighting: str) -> str:
+    """``"mesh"`` or ``"graph"``: which of the two is given (exactly one must be, else
+    :class:`InvalidInputError`); a graph brings its own edge weights, so it takes only
+    ``weighting="uniform"``."""
+    given = _exactly_one({"mesh": mesh, "graph": graph})
+    if given == "graph" and weighting != "uniform":
+        raise InvalidInputError(
+            f"Expected `weighting` to be 'uniform' with a `graph` (its own weights are the "
+            f"edge weights; {weighting} weights need a mesh), got {weighting!r}.",
+            field="weighting")
+    return given
+
+
+def distance_source(distances: Any, distance_pairs: Any, n_points: Any, graph: Any) -> str:
+    """The name of the one input that gives the distances (``"distances"``,
+    ``"distance_pairs"`` or ``"graph"``; else :class:`InvalidInputError`), checking that
+    ``n_points`` comes only with ``distance_pairs``."""
+    given = _exactly_one({"distances": distances, "distance_pairs": distance_pairs,
+                          "graph": graph})
+    if n_points is not None and given != "distance_pairs":
+        raise InvalidInputError(
+            "Expected `n_points` only together with `distance_pairs` (the other inputs "
+            f"fix the number of points), got it with `{given}`.", field="n_points")
+    return given
+
 
 def _as_float_matrix(x: Any, *, name: str, expected: str) -> np.ndarray:
     """A float64 array from nested lists or an array; ``None`` entries become NaN."""
@@ -103,8 +147,7 @@ def as_distance_matrix(x: Any, *, name: str = "distances", allow_missing: bool =
     if n < 2:
         raise InvalidInputError(f"Expected `{name}` to relate at least 2 points, got {n}.",
                                 field=name)
-    if max_points is not None and n > max_points:
-        check_dense_size(n, name=name)
+    _check_size(n, max_points, name=name)
     _check_entries(d, name=name, allow_missing=allow_missing)
     diag = np.diagonal(d).copy()
     off = np.isfinite(diag) & (diag != 0)
@@ -122,6 +165,16 @@ def as_distance_matrix(x: Any, *, name: str = "distances", allow_missing: bool =
         d = 0.5 * (d + d.T)
     check_connected(~np.isnan(d), name=name)
     return d
+
+
+def _check_size(n: int, max_points: int | None, *, name: str) -> None:
+    """Raise when ``n`` points are more than ``max_points`` (the dense methods' own limit
+    gives its own message)."""
+    if max_points is not None and n > max_points:
+        check_dense_size(n, name=name)
+        raise InvalidInputError(
+            f"Expected `{name}` to describe at most {max_points:,} points, got {n:,}.",
+            field=name)
 
 
 def _check_entries(d: FloatArray, *, name: str, allow_missing: bool) -> None:
@@ -153,7 +206,6 @@ def check_connected(known: np.ndarray, *, name: str) -> None:
 
     ``known`` is the ``(n, n)`` boolean mask of known distances (the diagonal ignored).
     """
-    n = known.shape[0]
     mask = known.copy()
     np.fill_diagonal(mask, False)
     lonely = ~mask.any(axis=1)
@@ -208,8 +260,7 @@ def distance_pairs_matrix(pairs: Any, n_points: Any = None, *, name: str = "dist
         n = max(n, 2)
     else:
         n = as_int(n_points, name=n_name, minimum=2)
-    if max_points is not None and n > max_points:
-        check_dense_size(n, name=n_name if n_points is not None else name)
+    _check_size(n, max_points, name=n_name if n_points is not None else name)
     ij = as_indices(idx, n, name=name, what=f"point indices (columns 0 and 1) below {n}"
                     if n_points is not None else "point indices")
     same = ij[:, 0] == ij[:, 1]
@@ -270,20 +321,11 @@ def graph_distances(graph: Any, *, name: str = "graph") -> FloatArray:
 def resolve_distances(distances: Any, distance_pairs: Any, n_points: Any, graph: Any
                       ) -> tuple[FloatArray, str]:
     """The checked ``(n, n)`` distance matrix (NaN where unknown) from exactly one of the
-    three ways to give it, and the name of the input it came from."""
-    given = [k for k, v in (("distances", distances), ("distance_pairs", distance_pairs),
-                            ("graph", graph)) if v is not None]
-    if len(given) != 1:
-        got = "none" if not given else " and ".join(f"`{g}`" for g in given)
-        raise InvalidInputError(
-            "Expected exactly one of `distances`, `distance_pairs` or `graph`, got "
-            f"{got}.", field=given[1] if len(given) > 1 else "distances")
-    if n_points is not None and distance_pairs is None:
-        raise InvalidInputError(
-            "Expected `n_points` only together with `distance_pairs` (the other inputs "
-            f"fix the number of points), got it with `{given[0]}`.", field="n_points")
-    if distances is not None:
-        return as_distance_matrix(distances, name="distances"), "distances"
-    if distance_pairs is not None:
-        return distance_pairs_matrix(distance_pairs, n_points), "distance_pairs"
-    return graph_distances(graph), "graph"
+    three ways to give it (:func:`distance_source`), and the name of the input it came
+    from."""
+    given = distance_source(distances, distance_pairs, n_points, graph)
+    if given == "distances":
+        return as_distance_matrix(distances, name="distances"), given
+    if given == "distance_pairs":
+        return distance_pairs_matrix(distance_pairs, n_points), given
+    return graph_distances(graph), given

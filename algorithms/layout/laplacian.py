@@ -5,27 +5,28 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Literal, get_args
 
 import numpy as np
 import scipy.sparse as sp
 
-from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.graphs import edge_graph
+from algorithms.core.errors import DegenerateInputError
+from algorithms.core.graphs import Graph, as_graph, edge_graph
 from algorithms.core.laplacian import laplacian as laplacian_of
 from algorithms.core.laplacian import mesh_laplacian
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_handles, boundary_loops
+from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_handles, boundary_loops, read_mesh
+from algorithms.core.params import GraphLike, HandlesLike, MeshLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice
-from algorithms.core.graphs import Graph, as_graph
-from algorithms.core.mesh import read_mesh
+from algorithms.layout._inputs import mesh_or_graph
 
-__all__ = ["LaplacianLayoutResult", "laplacian", "WEIGHTINGS", "SPACINGS", "face_orientation"]
+__all__ = ["LaplacianLayoutResult", "laplacian", "Weighting", "Spacing", "WEIGHTINGS",
+           "SPACINGS", "face_orientation"]
 
+Weighting = Literal["uniform", "cotangent", "tangent"]
+Spacing = Literal["arc_length", "uniform"]
 #: The accepted values of ``weighting`` and ``boundary_spacing``.
-WEIGHTINGS = ("uniform", "cotangent", "tangent")
-SPACINGS = ("arc_length", "uniform")
+WEIGHTINGS, SPACINGS = get_args(Weighting), get_args(Spacing)
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,13 +59,14 @@ class LaplacianLayoutResult:
     degenerate_faces: int
 
 
+@validate_params
 def laplacian(
-    mesh: Any = None,
+    mesh: MeshLike | None = None,
     *,
-    graph: Any = None,
-    pins: Any = None,
-    weighting: str = "uniform",
-    boundary_spacing: str = "arc_length",
+    graph: GraphLike | None = None,
+    pins: HandlesLike | None = None,
+    weighting: Weighting = "uniform",
+    boundary_spacing: Spacing = "arc_length",
 ) -> LaplacianLayoutResult:
     r"""Place the vertices of a mesh or graph where the springs on its edges balance, some
     vertices pinned (Tutte's embedding when a mesh's boundary is pinned to a convex
@@ -92,24 +94,27 @@ def laplacian(
     Parameters
     ----------
     mesh : Mesh or mapping, optional
-        A triangle mesh, ``{"vertices": (n, 2|3), "faces": (m, 3)}``. Exactly one of
-        ``mesh`` and ``graph``.
+        A triangle mesh, ``{"vertices": (n, 2|3), "faces": (m, 3)}``, whose edges are the
+        springs; without ``pins`` its longest boundary loop is pinned to the unit circle
+        (Tutte's embedding). Exactly one of ``mesh`` and ``graph``.
     graph : Graph or mapping, optional
-        A graph ``{"nodes": n, "edges": (e, 2), "weights": (e,)?}``; its weights (default
-        1, non-negative) are the spring stiffnesses. A repeated edge counts once (its first
-        weight). Needs ``pins``.
+        Instead of ``mesh``: a graph ``{"nodes": n, "edges": (e, 2), "weights": (e,)?}``;
+        its weights (default 1, non-negative) are the spring stiffnesses. A repeated edge
+        counts once (its first weight). Needs ``pins``.
     pins : Handles or mapping, optional
-        ``{"indices": (p,), "positions": (p, k)}``: the pinned vertices and their
-        positions, in any dimension ``k``. Each connected component needs one. Default for
-        a mesh: its boundary on the unit circle (then ``k = 2``).
+        ``{"indices": (p,), "positions": (p, k)}``: the pinned vertices (nodes) and their
+        positions, in any dimension ``k >= 2``, the dimension of the layout; at least one
+        in every connected component. Default for a mesh: its boundary on the unit circle
+        (then ``k = 2``).
     weighting : {"uniform", "cotangent", "tangent"}, default "uniform"
-        Mesh edge weights: 1 (Tutte's barycentric map), cotangent
-        :math:`\tfrac12(\cot\alpha + \cot\beta)` (harmonic; negative across obtuse angles,
-        so faces may flip) or tangent / mean value :math:`\sum \tan(\theta/2) / \lVert p_i
-        - p_j \rVert` (Floater's, never negative: no flips). A graph takes only
-        ``"uniform"`` (its own weights).
+        Mesh edge weights: ``"uniform"`` 1 (Tutte's barycentric map), ``"cotangent"``
+        :math:`(\cot\alpha + \cot\beta)/2` (the harmonic map; negative across edges
+        opposite obtuse angles, so faces may flip) or ``"tangent"`` :math:`\sum
+        \tan(\theta/2) / \lVert p_i - p_j \rVert` (Floater's mean value weights, never
+        negative: no flips). A graph takes only ``"uniform"`` (its own weights).
     boundary_spacing : {"arc_length", "uniform"}, default "arc_length"
-        How the default boundary is spread over the circle.
+        Where the default boundary's vertices go on the circle: ``"arc_length"`` spaced by
+        the lengths of the boundary edges, ``"uniform"`` evenly. Unused with ``pins``.
 
     Returns
     -------
@@ -130,13 +135,15 @@ def laplacian(
 
     Notes
     -----
-    The seed document derives the pinned solve (``L₀₀x = −L₀₁c``, "each connected
-    component pinned at least once") and states Tutte's theorem: pins on a convex polygon
-    keep the mesh a mesh, no point outside the polygon, no crossing edge, no flipped
-    angle. That needs non-negative weights: the cotangent weights fail it on meshes with
-    obtuse triangles (non-Delaunay), which the seed also notes; the tangent (incentre)
-    weights it asks about ("can Lcot be replaced by the incentre formula Ltan?") are
-    Floater's mean value weights and never negative, so they keep the guarantee.
+    **Tutte's guarantee needs non-negative weights.** With a pin in every connected
+    component the free block :math:`L_{00}` is non-singular, so the layout is unique.
+    With the pins on a convex polygon and every weight non-negative, it is an embedding:
+    no vertex outside the polygon, no crossing edges, no flipped face (Tutte; Floater for
+    positive weights). The cotangent weights break the condition: an edge whose opposite
+    angles sum to more than :math:`\pi` (a mesh that is not Delaunay, with obtuse
+    triangles) gets a negative weight, and faces may flip. The tangent weights are sums
+    of :math:`\tan(\theta/2) > 0` over angles :math:`\theta \in (0, \pi)`, never negative,
+    so they keep the guarantee on any mesh.
     A boundary pinned to a *non-convex* polygon (given ``pins``) may flip faces: the count
     is reported, not raised.
 
@@ -148,8 +155,6 @@ def laplacian(
     .. [1] W. T. Tutte, "How to draw a graph", Proc. London Math. Soc. 13 (1963).
     .. [2] M. S. Floater, "Parametrization and smooth approximation of surface
        triangulations", CAGD 14 (1997); "Mean value coordinates", CAGD 20 (2003).
-    .. [3] The seed document, sections "relative positions as fixed as possible" and
-       "planar graph property (Tutte's spring theorem)".
 
     Examples
     --------
@@ -163,32 +168,20 @@ def laplacian(
     >>> (res.positions[4].round(12) + 0.0).tolist(), res.flipped_faces
     ([0.0, 0.0], 0)
     """
-    weighting = as_choice(weighting, WEIGHTINGS, name="weighting")
-    spacing = as_choice(boundary_spacing, SPACINGS, name="boundary_spacing")
-    if (mesh is None) == (graph is None):
-        raise InvalidInputError(
-            "Expected exactly one of `mesh` and `graph`, got "
-            f"{'both' if mesh is not None else 'neither'}.",
-            field="graph" if mesh is not None else "mesh")
     faces: IntArray | None = None
-    if mesh is not None:
+    if mesh_or_graph(mesh, graph, weighting) == "mesh":
         m = read_mesh(mesh)
         n, faces = m.n_vertices, m.faces
         lap = mesh_laplacian(m.vertices, m.faces, kind=weighting)
     else:
         g = as_graph(graph)
-        if weighting != "uniform":
-            raise InvalidInputError(
-                f"Expected `weighting` to be 'uniform' with a `graph` (its own weights are "
-                f"the springs; {weighting} weights need a mesh), got {weighting!r}.",
-                field="weighting")
         n = g.n_nodes
         lap = graph_laplacian(g)
     if pins is not None:
         h = as_handles(pins, n, name="pins")
         pinned, values, pin_name = h.indices, h.positions, "pins"
     elif mesh is not None:
-        pinned, values = circle_boundary(m, spacing)
+        pinned, values = circle_boundary(m, boundary_spacing)
         pin_name = "mesh"
     else:
         raise DegenerateInputError(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 import scipy.linalg as la
@@ -13,9 +13,10 @@ from scipy.sparse.linalg import eigsh
 from scipy.spatial.distance import cdist
 
 from algorithms.core.errors import ConvergenceWarning
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.params import ArrayInput, Ge, GraphLike, validate_params
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.validation import as_float, as_int
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_int
 from algorithms.layout._inputs import resolve_distances
 
 __all__ = ["MDSResult", "mds", "classical_coordinates", "complete_squared_distances",
@@ -64,16 +65,17 @@ class MDSResult:
     converged: bool
 
 
+@validate_params
 def mds(
-    distances: Any = None,
+    distances: ArrayInput | None = None,
     *,
-    distance_pairs: Any = None,
-    n_points: int | None = None,
-    graph: Any = None,
-    n_components: int = 2,
-    rank: int | None = None,
-    max_iterations: int = 500,
-    tolerance: float = 1e-7,
+    distance_pairs: ArrayInput | None = None,
+    n_points: Annotated[int, Ge(2)] | None = None,
+    graph: GraphLike | None = None,
+    n_components: Annotated[int, Ge(1)] = 2,
+    rank: Annotated[int, Ge(1)] | None = None,
+    max_iterations: Annotated[int, Ge(0)] = 500,
+    tolerance: Annotated[float, Ge(0)] = 1e-7,
 ) -> MDSResult:
     r"""Classical (Torgerson) multidimensional scaling; partial distance matrices are
     completed first.
@@ -84,17 +86,17 @@ def mds(
     eigenpairs :math:`(\lambda_c, e_c)` give :math:`X = [\sqrt{\lambda_1} e_1, \dots,
     \sqrt{\lambda_k} e_k]`, the best rank-``k`` fit of the centred Gram matrix.
 
-    **Completion** (seed document; Drineas, Javed, Magdon-Ismail, Pandurangan, Virrankoski
-    and Savvides 2006). Squared Euclidean distances of points in
-    :math:`\mathbb R^k` form a matrix of rank at most :math:`k + 2`. Missing entries are
-    set to zero and the known off-diagonal ones divided by the fraction ``p`` of known
-    pairs (an unbiased estimate of the full matrix), and the result is truncated to rank
-    ``r = rank`` (default ``k + 2``): that is the one-shot estimate of the seed and the
-    paper. It is then refined by alternating projections: the missing entries are replaced
-    by the current estimate, the known ones (and the zero diagonal) restored, and the
-    matrix truncated to rank ``r`` again, until the missing entries change by less than
-    ``tolerance`` (relative) or ``max_iterations`` is reached; ``max_iterations=0`` keeps
-    the one-shot estimate. Completed squared distances are clipped at zero.
+    **Completion** (Drineas, Javed, Magdon-Ismail, Pandurangan, Virrankoski and Savvides
+    2006). Squared Euclidean distances of points in :math:`\mathbb R^k` form a matrix of
+    rank at most :math:`k + 2`. Missing entries are set to zero and the known
+    off-diagonal ones divided by the fraction ``p`` of known pairs (an unbiased estimate
+    of the full matrix), and the result is truncated to rank ``r = rank`` (default
+    ``k + 2``): that is the paper's one-shot estimate. It is then refined by alternating
+    projections: the missing entries are replaced by the current estimate, the known ones
+    (and the zero diagonal) restored, and the matrix truncated to rank ``r`` again, until
+    the missing entries change by less than ``tolerance`` (relative) or
+    ``max_iterations`` is reached; ``max_iterations=0`` keeps the one-shot estimate.
+    Completed squared distances are clipped at zero.
 
     The truncation keeps the eigenpairs a squared-distance matrix has: its largest
     (positive) eigenvalue and its ``r - 1`` most negative ones (Schoenberg: a Euclidean
@@ -106,22 +108,25 @@ def mds(
     distances : (n, n) array_like, optional
         Pairwise distances, non-negative, the diagonal zero; NaN (``null`` in JSON) marks
         a missing entry. An asymmetric matrix is symmetrised (the mean of ``d_ij`` and
-        ``d_ji`` where both are known, the known one otherwise).
+        ``d_ji`` where both are known, the known one otherwise). Exactly one of
+        ``distances``, ``distance_pairs`` and ``graph``.
     distance_pairs : (m, 3) array_like, optional
-        Instead of ``distances``: the known distances as rows ``(i, j, d)``; every other
-        pair is missing.
+        Instead of ``distances``: the known distances as rows ``(i, j, d)``, points ``i``
+        and ``j`` (0-based) ``d`` apart; every other pair is missing.
     n_points : int, optional
         With ``distance_pairs``: the number of points (default: the largest index + 1).
     graph : Graph or mapping, optional
         Instead of ``distances``: a connected graph whose shortest-path lengths are the
         distances (``graph.weights`` are edge lengths, default 1).
     n_components : int, default 2
-        The dimension ``k`` of the layout.
+        The dimension ``k`` of the layout, at most the number of points.
     rank : int, optional
-        The rank of the completed squared-distance matrix; default ``n_components + 2``.
-        Only used when entries are missing.
+        The rank of the completed squared-distance matrix, from ``n_components`` to the
+        number of points; default ``n_components + 2``. Only used when entries are
+        missing.
     max_iterations : int, default 500
-        Refinement iterations of the completion after the one-shot estimate.
+        Refinement iterations of the completion after its one-shot estimate; 0 keeps the
+        one-shot estimate of Drineas et al.
     tolerance : float, default 1e-7
         The completion stops when the missing squared distances change by less than this,
         relative to their size.
@@ -145,27 +150,28 @@ def mds(
 
     Notes
     -----
-    **What the seed says differently.** The seed truncates by SVD, keeping "the ``k``
-    largest singular values", and then symmetrises,
-    :math:`\tilde D = \tfrac12 (D_k + D_k^\mathsf{T})`. Here the input is symmetrised
-    first, after which every truncation is symmetric and the final symmetrisation a no-op.
-    The rank is ``k + 2``, not ``k``: an exact ``k``-dimensional squared-distance matrix has
-    rank ``k + 2``, and truncating it to rank ``k`` changes even the known entries. Keeping
-    the ``r`` singular values of largest size (what the SVD does) rather than the inertia
-    of a squared-distance matrix made the refinement stall far from the answer in about
-    half of the trials here (2-D points, 30-60 % of pairs known); with the inertia kept it
-    converged. The one-shot estimate alone is poor unless most pairs are known (normalized
-    stress 0.1-0.4 with half of the pairs missing); the refinement is not in the paper.
+    **The truncation: rank k + 2, with the inertia of a distance matrix.** A truncation
+    by SVD to "the ``k`` largest singular values", then symmetrised,
+    :math:`\tilde D = \tfrac12 (D_k + D_k^\mathsf{T})`, is wrong in two ways. The rank
+    must be ``k + 2``, not ``k``: an exact ``k``-dimensional squared-distance matrix has
+    rank ``k + 2``, and truncating it to rank ``k`` changes even the known entries. And
+    the ``r`` eigenpairs kept must be those a squared-distance matrix has (the largest
+    and the ``r - 1`` most negative), not the ``r`` of largest magnitude that the SVD
+    keeps: with the latter the refinement stalled far from the answer in about half of
+    the trials here (2-D points, 30-60 % of pairs known), with the inertia kept it
+    converged. The input is symmetrised first, so every truncation is symmetric (an
+    eigendecomposition) and needs no symmetrisation after it. The one-shot estimate alone
+    is poor unless most pairs are known (normalized stress 0.1-0.4 with half of the pairs
+    missing); the refinement is not in the paper.
 
     **When completion fails.** The rank condition constrains the missing entries only when
     ``n`` is well above ``r`` and every point keeps several known distances: with 2-D
     points it recovered them (to 1e-6) in every trial with 50 or 150 points and half or
     30 % of the pairs known, but in only 5-40 % of the trials with 5 to 20 points (10-50 %
     missing), where the refinement settles on a low-rank completion that is no planar
-    layout. The reported
-    ``stress`` over the known pairs shows it; :func:`~algorithms.layout.stress` then
-    minimises that stress directly (from a wrong start it too may stop in a local
-    minimum).
+    layout. The reported ``stress`` over the known pairs shows it;
+    :func:`~algorithms.layout.stress` then minimises that stress directly (from a wrong
+    start it too may stop in a local minimum).
 
     Classical MDS minimises the *strain* :math:`\lVert X X^\mathsf{T} + \tfrac12 J D^{(2)}
     J \rVert_F`, not the stress; :func:`~algorithms.layout.stress` minimises the stress and
@@ -184,8 +190,6 @@ def mds(
     .. [2] P. Drineas, A. Javed, M. Magdon-Ismail, G. Pandurangan, R. Virrankoski,
        A. Savvides, "Distance matrix reconstruction from incomplete distance information
        for sensor network localization", IEEE SECON (2006).
-    .. [3] The seed document, section "relative distances as fixed as possible" (matrix
-       completion, then multidimensional scaling).
 
     Examples
     --------
@@ -205,15 +209,13 @@ def mds(
     r = k + 2 if rank is None else as_int(rank, name="rank", minimum=k, maximum=n,
                                           reason="from n_components to the number of points")
     r = min(r, n)
-    iters = as_int(max_iterations, name="max_iterations", minimum=0)
-    tol = as_float(tolerance, name="tolerance", minimum=0.0)
 
     with single_blas_thread():
-        squared, used, converged = complete_squared_distances(d, r, iters, tol)
+        squared, used, converged = complete_squared_distances(d, r, max_iterations, tolerance)
     missing = int(np.count_nonzero(np.isnan(np.triu(d, 1))))
     if not converged:
         warnings.warn(f"The distance completion stopped after {used} iterations before "
-                      f"reaching tolerance {tol:g}.", ConvergenceWarning, stacklevel=2)
+                      f"reaching tolerance {tolerance:g}.", ConvergenceWarning, stacklevel=2)
     x, eigenvalues = classical_coordinates(squared, k)
     stress_value, total = raw_stress(x, d)
     return MDSResult(

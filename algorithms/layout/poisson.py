@@ -5,22 +5,29 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.graphs import as_graph
 from algorithms.core.laplacian import cotangent_weights, tangent_weights
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import as_handles
+from algorithms.core.mesh import as_handles, read_mesh
 from algorithms.core.mesh import edges as mesh_edges
+from algorithms.core.params import (
+    ArrayInput,
+    GraphLike,
+    HandlesLike,
+    MeshLike,
+    WeightsLike,
+    validate_params,
+)
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_choice, as_points, as_weights
-from algorithms.core.graphs import as_graph
-from algorithms.core.mesh import read_mesh
-from algorithms.layout.laplacian import WEIGHTINGS
+from algorithms.core.validation import as_points, as_weights
+from algorithms.layout._inputs import mesh_or_graph
+from algorithms.layout.laplacian import Weighting
 
 __all__ = ["PoissonLayoutResult", "poisson"]
 
@@ -55,15 +62,16 @@ class PoissonLayoutResult:
     free_components: int
 
 
+@validate_params
 def poisson(
-    mesh: Any = None,
+    mesh: MeshLike | None = None,
     *,
-    graph: Any = None,
-    vectors: Any,
-    anchors: Any = None,
-    anchor_weights: Any = None,
-    pins: Any = None,
-    weighting: str = "uniform",
+    graph: GraphLike | None = None,
+    vectors: ArrayInput,
+    anchors: HandlesLike | None = None,
+    anchor_weights: WeightsLike | None = None,
+    pins: HandlesLike | None = None,
+    weighting: Weighting = "uniform",
 ) -> PoissonLayoutResult:
     r"""Positions whose edge differences match given vectors, in the least-squares sense,
     pulled softly towards anchors and held at pins (a screened Poisson equation on the
@@ -87,25 +95,31 @@ def poisson(
     Parameters
     ----------
     mesh : Mesh or mapping, optional
-        A triangle mesh; its edges are its unique edges ``(i, j)``, ``i < j``, sorted
-        lexicographically (:func:`algorithms.core.mesh.edges`). Exactly one of ``mesh`` and
-        ``graph``.
+        A triangle mesh ``{"vertices": (n, 2|3), "faces": (m, 3)}``; its edges, in the
+        order of ``vectors``, are its unique edges ``(i, j)``, ``i < j``, sorted
+        lexicographically. Exactly one of ``mesh`` and ``graph``.
     graph : Graph or mapping, optional
-        ``{"nodes": n, "edges": (e, 2), "weights": (e,)?}``; edges in their given order and
-        orientation, weights ``w`` (default 1, non-negative).
+        Instead of ``mesh``: a graph ``{"nodes": n, "edges": (e, 2), "weights": (e,)?}``;
+        edges in their given order and orientation, weights ``w`` (default 1,
+        non-negative).
     vectors : (e, k) array_like
         The target of :math:`p_i - p_j` for each edge row ``(i, j)``, in the order of the
         edges; ``k >= 2`` is the dimension of the layout.
     anchors : Handles or mapping, optional
-        ``{"indices": (a,), "positions": (a, k)}``: soft targets :math:`z_i`.
+        ``{"indices": (a,), "positions": (a, k)}``: soft targets :math:`z_i`, the term
+        :math:`\sum_i u_i \lVert p_i - z_i \rVert^2`. A connected component with neither
+        anchors nor pins is centred at the origin.
     anchor_weights : (a,) array_like, optional
-        :math:`u_i \ge 0` per anchor; default 1.
+        The weight :math:`u_i \ge 0` of each anchor, in the order of ``anchors.indices``;
+        all 1 when omitted. Only together with ``anchors``.
     pins : Handles or mapping, optional
-        ``{"indices": (p,), "positions": (p, k)}``: hard constraints, met exactly.
+        ``{"indices": (p,), "positions": (p, k)}``: vertices (nodes) held at these
+        positions exactly.
     weighting : {"uniform", "cotangent", "tangent"}, default "uniform"
-        Mesh edge weights ``w``: 1, cotangent or tangent (see
-        :func:`~algorithms.layout.laplacian`). A graph takes only ``"uniform"`` (its own
-        weights).
+        Mesh edge weights ``w``: ``"uniform"`` 1, ``"cotangent"``
+        :math:`(\cot\alpha + \cot\beta)/2` (negative across edges opposite obtuse
+        angles) or ``"tangent"`` (Floater's mean value weights, never negative). A graph
+        takes only ``"uniform"`` (its own weights).
 
     Returns
     -------
@@ -125,17 +139,15 @@ def poisson(
 
     Notes
     -----
-    The seed document states this objective ("relative positions as fixed as possible,
-    absolute positions as fixed as possible") and its normal equations; it leaves out a
-    component without anchors, where the objective does not change when the component
-    moves: such a component is solved with one vertex held and then centred at the
-    origin (the minimiser of least norm), and counted in ``free_components``.
+    **Components without anchors.** Where no anchor of positive weight and no pin holds
+    a connected component, the objective does not change when the component is
+    translated, and the normal equations are singular there. Such a component is solved
+    with its lowest-numbered vertex held at the origin and then centred at the origin
+    (of all minimisers, the one of least norm), and counted in ``free_components``.
 
     References
     ----------
-    .. [1] The seed document, section "relative positions as fixed as possible, absolute
-       positions as fixed as possible".
-    .. [2] P. Pérez, M. Gangnet, A. Blake, "Poisson image editing", ACM TOG 22(3) (2003).
+    .. [1] P. Pérez, M. Gangnet, A. Blake, "Poisson image editing", ACM TOG 22(3) (2003).
 
     Examples
     --------
@@ -149,13 +161,7 @@ def poisson(
     >>> res.positions.round(12).tolist()
     [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]
     """
-    weighting = as_choice(weighting, WEIGHTINGS, name="weighting")
-    if (mesh is None) == (graph is None):
-        raise InvalidInputError(
-            "Expected exactly one of `mesh` and `graph`, got "
-            f"{'both' if mesh is not None else 'neither'}.",
-            field="graph" if mesh is not None else "mesh")
-    if mesh is not None:
+    if mesh_or_graph(mesh, graph, weighting) == "mesh":
         m = read_mesh(mesh)
         n = m.n_vertices
         e = mesh_edges(m.faces)
@@ -168,11 +174,6 @@ def poisson(
         where = f"one row per edge of `mesh` ({e.shape[0]}, its unique edges i < j sorted)"
     else:
         g = as_graph(graph)
-        if weighting != "uniform":
-            raise InvalidInputError(
-                f"Expected `weighting` to be 'uniform' with a `graph` (its own weights are "
-                f"used; {weighting} weights need a mesh), got {weighting!r}.",
-                field="weighting")
         n, e = g.n_nodes, g.edges
         w = np.ones(e.shape[0]) if g.weights is None else g.weights
         where = f"one row per edge of `graph` ({e.shape[0]})"

@@ -6,25 +6,35 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Literal, get_args
 
 import numpy as np
 import scipy.linalg as la
 from scipy.spatial.distance import cdist
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.params import (
+    ArrayInput,
+    Ge,
+    GraphLike,
+    Interval,
+    PointsLike,
+    Seed,
+    validate_params,
+)
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray, RngLike
-from algorithms.core.validation import as_choice, as_float, as_int, as_points
+from algorithms.core.types import FloatArray
+from algorithms.core.validation import as_int, as_points
 from algorithms.layout._inputs import resolve_distances
 from algorithms.layout.mds import classical_coordinates, complete_squared_distances
 
-__all__ = ["StressResult", "stress", "WEIGHTINGS", "INITS"]
+__all__ = ["StressResult", "stress", "Weighting", "Init", "WEIGHTINGS", "INITS"]
 
+Weighting = Literal["inverse_square", "inverse", "uniform"]
+Init = Literal["classical", "random"]
 #: The accepted values of ``weighting`` and ``init``.
-WEIGHTINGS = ("inverse_square", "inverse", "uniform")
-INITS = ("classical", "random")
+WEIGHTINGS, INITS = get_args(Weighting), get_args(Init)
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,20 +70,21 @@ class StressResult:
     converged: bool
 
 
+@validate_params
 def stress(
-    distances: Any = None,
+    distances: ArrayInput | None = None,
     *,
-    distance_pairs: Any = None,
-    n_points: int | None = None,
-    graph: Any = None,
-    n_components: int = 2,
-    weighting: str = "inverse_square",
-    init: str = "classical",
-    initial_positions: Any = None,
-    max_iterations: int = 300,
-    tolerance: float = 1e-6,
-    relaxation: float = 1.0,
-    seed: RngLike = 0,
+    distance_pairs: ArrayInput | None = None,
+    n_points: Annotated[int, Ge(2)] | None = None,
+    graph: GraphLike | None = None,
+    n_components: Annotated[int, Ge(1)] = 2,
+    weighting: Weighting = "inverse_square",
+    init: Init = "classical",
+    initial_positions: PointsLike | None = None,
+    max_iterations: Annotated[int, Ge(0)] = 300,
+    tolerance: Annotated[float, Ge(0)] = 1e-6,
+    relaxation: Annotated[float, Interval(ge=1.0, lt=2.0)] = 1.0,
+    seed: Seed = 0,
     progress: Progress | None = None,
 ) -> StressResult:
     r"""Lay out points so that their distances match given ones, by stress majorization
@@ -106,18 +117,21 @@ def stress(
     Parameters
     ----------
     distances : (n, n) array_like, optional
-        Pairwise distances (NaN or ``null`` for unknown), as for
-        :func:`~algorithms.layout.mds`. Exactly one of ``distances``, ``distance_pairs``,
-        ``graph``.
+        Pairwise distances, non-negative, the diagonal zero; NaN (``null`` in JSON) marks
+        an unknown distance, which gets weight 0. An asymmetric matrix is symmetrised (the
+        mean of ``d_ij`` and ``d_ji`` where both are known, the known one otherwise).
+        Exactly one of ``distances``, ``distance_pairs`` and ``graph``.
     distance_pairs : (m, 3) array_like, optional
-        Known distances as rows ``(i, j, d)``.
+        Instead of ``distances``: the known distances as rows ``(i, j, d)``, points ``i``
+        and ``j`` (0-based) ``d`` apart; every other pair is unknown.
     n_points : int, optional
         With ``distance_pairs``: the number of points (default: the largest index + 1).
     graph : Graph or mapping, optional
-        A connected graph ``{"nodes", "edges", "weights"?}``; the distances are its
-        shortest-path lengths, ``weights`` being edge lengths (default 1).
+        Instead of ``distances``: a connected graph ``{"nodes", "edges", "weights"?}``;
+        the distances are its shortest-path lengths, ``weights`` being edge lengths
+        (default 1).
     n_components : int, default 2
-        The dimension ``k`` of the layout.
+        The dimension ``k`` of the layout, at most the number of points.
     weighting : {"inverse_square", "inverse", "uniform"}, default "inverse_square"
         :math:`w_{ij} = d_{ij}^{-2}` (Gansner, Koren and North: relative errors count
         equally, local structure first), :math:`d_{ij}^{-1}`, or 1 (scikit-learn's metric
@@ -127,19 +141,21 @@ def stress(
         The starting layout: classical MDS (:func:`~algorithms.layout.mds`, completing a
         partial matrix first), or standard normal coordinates drawn with ``seed``.
     initial_positions : (n, k) array_like, optional
-        A starting layout; overrides ``init``.
+        A starting layout, one row per point, ``k = n_components`` columns; overrides
+        ``init``.
     max_iterations : int, default 300
-        Most Guttman transforms.
+        Most Guttman transforms; 0 evaluates the starting layout.
     tolerance : float, default 1e-6
-        Stop when :math:`\sigma_{t-1} - \sigma_t < \text{tolerance}\cdot\eta^2(X_t)`
-        (or the stress is zero to rounding); 0 runs all ``max_iterations``.
+        Stop when one iteration lowers the stress by less than ``tolerance`` times
+        :math:`\eta^2(X) = \sum_{i<j} w_{ij} \lVert x_i - x_j \rVert^2` (scikit-learn's
+        rule), or the stress is zero to rounding; 0 runs all ``max_iterations``.
     relaxation : float, default 1.0
-        The step :math:`\alpha \in [1, 2)` of the relaxed update :math:`X \leftarrow X +
-        \alpha (V^{+} B(X) X - X)` (de Leeuw and Heiser): 1 is plain SMACOF; larger
-        steps keep the stress non-increasing and reach a given stress in fewer iterations
-        (1.9 took 30-45 % fewer here).
+        The step :math:`\alpha \in [1, 2)` of the relaxed update, the next layout
+        :math:`X + \alpha (V^{+} B(X) X - X)` (de Leeuw and Heiser): 1 is plain SMACOF;
+        larger steps keep the stress non-increasing and reach a given stress in fewer
+        iterations (1.9 took 30-45 % fewer here).
     seed : int or numpy Generator, optional, default 0
-        For ``init="random"``.
+        Seeds the random start of ``init="random"``: the same seed, the same layout.
     progress : callable, optional
         ``progress(iteration, max_iterations, message)`` after each iteration; may raise
         :class:`~algorithms.core.errors.Cancelled` to stop.
@@ -165,12 +181,13 @@ def stress(
 
     Notes
     -----
-    The seed document poses this objective as "elastic potential energy as small as
-    possible" and asks whether MDS can solve it ("I don't know; waiting for your paper"):
-    classical MDS minimises a different quantity (the strain), which is why it serves here
-    only as the starting layout that majorization then improves. The seed's suggested
-    particle simulation (a gradient descent) has no step size to tune in SMACOF and a
-    monotone decrease.
+    **Classical MDS is only the start.** It minimises the *strain* (the misfit of the
+    centred Gram matrix), not the stress, so its layout is in general not a minimiser of
+    :math:`\sigma`; majorization starts from it and lowers the stress. A force-directed
+    particle simulation of the same springs (gradient descent on :math:`\sigma`) needs a
+    step size and may raise the stress when the step is too long; each Guttman transform
+    minimises a majorizer instead, with no step size to tune and a stress that never
+    increases.
 
     Cost per iteration: :math:`O(n^2 k)`, one pass of pairwise distances, one division and
     one product of an ``n×n`` matrix with ``k + 1`` columns (``k + 1``: the row sums of
@@ -209,12 +226,6 @@ def stress(
     n = d.shape[0]
     k = as_int(n_components, name="n_components", minimum=1, maximum=n,
                reason="the number of points")
-    weighting = as_choice(weighting, WEIGHTINGS, name="weighting")
-    init = as_choice(init, INITS, name="init")
-    iters = as_int(max_iterations, name="max_iterations", minimum=0)
-    tol = as_float(tolerance, name="tolerance", minimum=0.0)
-    alpha = as_float(relaxation, name="relaxation", minimum=1.0, maximum=2.0,
-                     inclusive=(True, False))
 
     known = ~np.isnan(d)
     np.fill_diagonal(known, False)
@@ -260,19 +271,19 @@ def stress(
         floor = 1e-13 * smacof.total
         converged = s <= floor
         it = 0
-        while not converged and it < iters:
+        while not converged and it < max_iterations:
             g = smacof.guttman(x)
-            x = g if alpha == 1.0 else x + alpha * (g - x)
+            x = g if relaxation == 1.0 else x + relaxation * (g - x)
             it += 1
             s_new, eta2 = smacof.stress(x)
             history.append(s_new)
-            report(it, iters, f"stress {s_new:.6g}")
+            report(it, max_iterations, f"stress {s_new:.6g}")
             # as scikit-learn, the first step is never the last (unless the fit is exact)
-            converged = (it > 1 and s - s_new < tol * eta2) or s_new <= floor
+            converged = (it > 1 and s - s_new < tolerance * eta2) or s_new <= floor
             s = s_new
-    if not converged and iters > 0:
+    if not converged and max_iterations > 0:
         warnings.warn(f"Stress majorization stopped after {it} iterations before the "
-                      f"decrease fell below {tol:g} of the squared distances.",
+                      f"decrease fell below {tolerance:g} of the squared distances.",
                       ConvergenceWarning,
                       stacklevel=2)
     return StressResult(

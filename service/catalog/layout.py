@@ -3,42 +3,28 @@ with pins, or for points known by their pairwise distances)."""
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 import numpy as np
-from pydantic import (
-    Field,
-    PlainSerializer,
-    PlainValidator,
-    ValidationInfo,
-    WithJsonSchema,
-    model_validator,
-)
+from pydantic import PlainSerializer, PlainValidator, ValidationInfo, WithJsonSchema
 
-from algorithms.core.errors import InvalidInputError
-from algorithms.core.mesh import Handles, Mesh, as_handles
+from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.mesh import Handles, as_handles
 from algorithms.core.mesh import edges as mesh_edges
-from algorithms.core.validation import as_points, as_weights
+from algorithms.core.params import Le
+from algorithms.core.validation import MAX_DENSE_POINTS, as_int, as_points, as_weights
 from algorithms.layout import (
-    Graph,
-    LaplacianLayoutResult,
-    MDSResult,
-    PoissonLayoutResult,
-    StressResult,
-    as_graph,
+    as_distance_matrix,
+    distance_pairs_matrix,
+    distance_source,
     laplacian,
     mds,
+    mesh_or_graph,
     poisson,
     stress,
 )
-from algorithms.layout._inputs import (
-    MAX_DENSE_POINTS,
-    as_distance_matrix,
-    distance_pairs_matrix,
-)
-from service.catalog.base import Params
-from service.catalog.inputs import GraphInput, MeshInput, Points, Weights
 from service import scenes
+from service.catalog.inputs import Points
 from service.catalog.registry import Process, registry
 
 
@@ -48,7 +34,7 @@ def _validate_pins(value: Any, info: ValidationInfo) -> Handles:
     if not isinstance(value, (Handles, dict)):
         raise InvalidInputError(f"Expected `{name}` to be an object with keys 'indices' and "
                                 f"'positions', got {type(value).__name__}.", field=name)
-    return as_handles(value, None, name=name)  # against the mesh or graph: model validator
+    return as_handles(value, None, name=name)  # against the mesh or graph: the entry's check
 
 
 def _pins_json(h: Handles) -> dict[str, Any]:
@@ -76,7 +62,8 @@ PinsInput = Annotated[
     }),
 ]
 """Pinned vertices ``{"indices": [...], "positions": [[...], ...]}`` in any dimension
-``k >= 2``, validated into :class:`algorithms.core.mesh.Handles` (structure only)."""
+``k >= 2`` (the general ``Handles`` input has 2 or 3), validated into
+:class:`algorithms.core.mesh.Handles` (structure only)."""
 
 
 def _max_dense(info: ValidationInfo) -> int:
@@ -130,27 +117,75 @@ DistancePairs = Annotated[
 ]
 """Known distances as ``(m, 3)`` rows ``(i, j, d)``."""
 
-
-# -- shared checks ---------------------------------------------------------------------------
-def _one_of(values: dict[str, Any], default: str) -> None:
-    given = [k for k, v in values.items() if v is not None]
-    if len(given) != 1:
-        names = ", ".join(f"`{k}`" for k in values)
-        got = "none" if not given else " and ".join(f"`{g}`" for g in given)
-        raise InvalidInputError(f"Expected exactly one of {names}, got {got}.",
-                                field=given[1] if len(given) > 1 else default)
+_DISTANCE_INPUTS = {"distances": DistanceMatrix | None, "distance_pairs": DistancePairs | None}
 
 
-def _node_count(mesh: Mesh | None, graph: Graph | None) -> int:
-    return mesh.n_vertices if mesh is not None else graph.n_nodes  # type: ignore[union-attr]
+# -- checks across inputs --------------------------------------------------------------------
+def _nodes(p: Any) -> int:
+    """The vertex (node) count of the one mesh or graph given (a graph: uniform weighting)."""
+    if mesh_or_graph(p.mesh, p.graph, p.weighting) == "mesh":
+        return int(p.mesh.n_vertices)
+    return int(p.graph.n_nodes)
 
 
-_WEIGHTING = ("Mesh edge weights: uniform (Tutte's barycentric map), cotangent (harmonic; "
-              "negative across obtuse angles, faces may flip) or tangent (Floater's mean "
-              "value weights, never negative: no flips). A graph takes only uniform (its own "
-              "weights).")
-_GRAPH = ("A graph {nodes: n, edges: (e, 2) node indices, weights?: (e,) non-negative}, "
-          "instead of mesh.")
+def _pinned(p: Any) -> None:
+    """One of mesh and graph; pins within its vertices; a graph comes with pins."""
+    n = _nodes(p)
+    if p.pins is not None:
+        as_handles(p.pins, n, name="pins")
+    elif p.graph is not None:
+        raise DegenerateInputError("Expected `pins` with a `graph` (a graph has no boundary "
+                                   "to pin by default), got none.", field="pins")
+
+
+def _edge_vectors(p: Any) -> None:
+    """One of mesh and graph; one vector per edge; anchors and pins within its vertices and
+    of the vectors' dimension; anchor weights only with anchors, one per anchor."""
+    n = _nodes(p)
+    if p.mesh is not None:
+        e = mesh_edges(p.mesh.faces).shape[0]
+        where = f"one row per edge of `mesh` ({e}, its unique edges i < j sorted)"
+    else:
+        e = p.graph.edges.shape[0]
+        where = f"one row per edge of `graph` ({e})"
+    if p.vectors.shape[0] != e:
+        raise InvalidInputError(f"Expected `vectors` to hold {where}, got "
+                                f"{p.vectors.shape[0]}.", field="vectors")
+    k = p.vectors.shape[1]
+    for name in ("anchors", "pins"):
+        h = getattr(p, name)
+        if h is not None:
+            as_handles(h, n, name=name)
+            if h.positions.shape[1] != k:
+                raise InvalidInputError(
+                    f"Expected `{name}.positions` to have the dimension of `vectors` ({k}), "
+                    f"got shape ({h.positions.shape[0]}, {h.positions.shape[1]}).",
+                    field=f"{name}.positions")
+    if p.anchor_weights is not None:
+        if p.anchors is None:
+            raise InvalidInputError("Expected `anchor_weights` only together with `anchors`, "
+                                    "got weights without anchors.", field="anchor_weights")
+        as_weights(p.anchor_weights, p.anchors.indices.shape[0], name="anchor_weights")
+
+
+def _distances(p: Any) -> None:
+    """One of distances, distance_pairs and graph (n_points only with the pairs);
+    n_components at most the number of points."""
+    given = distance_source(p.distances, p.distance_pairs, p.n_points, p.graph)
+    if given == "distance_pairs":
+        n = distance_pairs_matrix(p.distance_pairs, p.n_points).shape[0]
+    else:
+        n = p.distances.shape[0] if given == "distances" else p.graph.n_nodes
+    as_int(p.n_components, name="n_components", minimum=1, maximum=n,
+           reason="the number of points")
+
+
+def _distances_and_start(p: Any) -> None:
+    """As for mds; a starting layout with n_components columns."""
+    _distances(p)
+    if p.initial_positions is not None:
+        as_points(p.initial_positions, name="initial_positions", dim=p.n_components)
+
 
 _SQUARE = {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]],
            "faces": [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]}
@@ -158,41 +193,6 @@ _PATH = {"nodes": 3, "edges": [[0, 1], [1, 2]]}
 _TRIANGLE = [[0, 3, 4], [3, 0, 5], [4, 5, 0]]
 _SQUARE_DISTANCES = [[0, 1, 1.4142135623730951, 1], [1, 0, 1, None],
                      [1.4142135623730951, 1, 0, 1], [1, None, 1, 0]]
-
-
-# -- layout.laplacian ------------------------------------------------------------------------
-class LaplacianParams(Params):
-    mesh: MeshInput | None = Field(
-        None, description="A triangle mesh {vertices: (n, 2|3), faces: (m, 3)}; without "
-        "pins its longest boundary loop is pinned to the unit circle (Tutte's embedding). "
-        "Exactly one of mesh and graph.", examples=[_SQUARE])
-    graph: GraphInput | None = Field(None, description=_GRAPH + " Its weights are the spring "
-                                     "stiffnesses; it needs pins.")
-    pins: PinsInput | None = Field(
-        None, description="Pinned vertices {indices: (p,), positions: (p, k)}, any dimension "
-        "k ≥ 2; at least one in every connected component. Default for a mesh: its boundary "
-        "on the unit circle.")
-    weighting: Literal["uniform", "cotangent", "tangent"] = Field(
-        "uniform", description=_WEIGHTING)
-    boundary_spacing: Literal["arc_length", "uniform"] = Field(
-        "arc_length", description="How the default boundary is spread over the circle: by "
-        "the lengths of its edges, or evenly.")
-
-    @model_validator(mode="after")
-    def _consistent(self) -> LaplacianParams:
-        _one_of({"mesh": self.mesh, "graph": self.graph}, "mesh")
-        if self.graph is not None and self.weighting != "uniform":
-            raise InvalidInputError(
-                f"Expected `weighting` to be 'uniform' with a `graph` (its own weights are the "
-                f"springs; {self.weighting} weights need a mesh), got {self.weighting!r}.",
-                field="weighting")
-        if self.pins is not None:
-            as_handles(self.pins, _node_count(self.mesh, self.graph), name="pins")
-        elif self.graph is not None:
-            raise InvalidInputError("Expected `pins` with a `graph` (a graph has no boundary "
-                                    "to pin by default), got none.", field="pins")
-        return self
-
 
 registry.add(Process(
     id="layout.laplacian",
@@ -203,74 +203,15 @@ registry.add(Process(
     "pinned to the unit circle by default (Tutte's embedding: with uniform or tangent weights "
     "no face flips). Reports the spring energy and flipped faces.",
     function=laplacian,
-    params=LaplacianParams,
-    result=LaplacianLayoutResult,
+    examples={"mesh": _SQUARE},
+    inputs={"pins": PinsInput | None},
+    check=_pinned,
     reference="Tutte, W. T. (1963). How to draw a graph. Proc. London Math. Soc. 13, 743–767; "
     "Floater, M. S. (2003). Mean value coordinates. CAGD 20(1), 19–27.",
     fast_path=True,
     keywords=("tutte embedding", "spring layout", "parameterization", "graph drawing",
               "harmonic map"),
 ))
-
-
-# -- layout.poisson --------------------------------------------------------------------------
-class PoissonParams(Params):
-    mesh: MeshInput | None = Field(
-        None, description="A triangle mesh; its edges are its unique edges (i, j), i < j, "
-        "sorted. Exactly one of mesh and graph.")
-    graph: GraphInput | None = Field(None, description=_GRAPH + " Edges keep their order and "
-                                     "orientation; weights w (default 1).", examples=[_PATH])
-    vectors: Points = Field(
-        description="The target of p_i − p_j for each edge row (i, j), in edge order: an "
-        "(e, k) array, k ≥ 2 the dimension of the layout.",
-        examples=[[[-1.0, 0.0], [-1.0, 0.0]]])
-    anchors: PinsInput | None = Field(
-        None, description="Soft targets z {indices: (a,), positions: (a, k)}: the term "
-        "Σ uᵢ‖pᵢ − zᵢ‖². A component with neither anchors nor pins is centred at the origin.",
-        examples=[{"indices": [0], "positions": [[0.0, 0.0]]}])
-    anchor_weights: Weights | None = Field(
-        None, description="The weight uᵢ ≥ 0 of each anchor, in the order of anchors.indices; "
-        "default 1.")
-    pins: PinsInput | None = Field(
-        None, description="Hard constraints {indices: (p,), positions: (p, k)}, met exactly.")
-    weighting: Literal["uniform", "cotangent", "tangent"] = Field(
-        "uniform", description="Mesh edge weights w: uniform, cotangent or tangent. A graph "
-        "takes only uniform (its own weights).")
-
-    @model_validator(mode="after")
-    def _consistent(self) -> PoissonParams:
-        _one_of({"mesh": self.mesh, "graph": self.graph}, "mesh")
-        if self.graph is not None and self.weighting != "uniform":
-            raise InvalidInputError(
-                f"Expected `weighting` to be 'uniform' with a `graph` (its own weights are "
-                f"used; {self.weighting} weights need a mesh), got {self.weighting!r}.",
-                field="weighting")
-        n = _node_count(self.mesh, self.graph)
-        e = mesh_edges(self.mesh.faces).shape[0] if self.mesh is not None else \
-            self.graph.edges.shape[0]  # type: ignore[union-attr]
-        if self.vectors.shape[0] != e:
-            what = "mesh` (its unique edges i < j sorted" if self.mesh is not None else "graph`"
-            raise InvalidInputError(
-                f"Expected `vectors` to hold one row per edge of `{what}, {e}), got "
-                f"{self.vectors.shape[0]}.", field="vectors")
-        k = self.vectors.shape[1]
-        for name in ("anchors", "pins"):
-            h = getattr(self, name)
-            if h is not None:
-                as_handles(h, n, name=name)
-                if h.positions.shape[1] != k:
-                    raise InvalidInputError(
-                        f"Expected `{name}.positions` to have the dimension of `vectors` ({k}), "
-                        f"got shape {h.positions.shape}.", field=f"{name}.positions")
-        if self.anchor_weights is not None:
-            if self.anchors is None:
-                raise InvalidInputError("Expected `anchor_weights` only together with "
-                                        "`anchors`, got weights without anchors.",
-                                        field="anchor_weights")
-            as_weights(self.anchor_weights, self.anchors.indices.shape[0],
-                       name="anchor_weights")
-        return self
-
 
 registry.add(Process(
     id="layout.poisson",
@@ -280,64 +221,15 @@ registry.add(Process(
     "anchors and held at pins: min Σ wᵢⱼ‖(pᵢ − pⱼ) − vᵢⱼ‖² + Σ uᵢ‖pᵢ − zᵢ‖², solved as "
     "(DᵀWD + U)x = DᵀWv + Uz with one sparse factorization.",
     function=poisson,
-    params=PoissonParams,
-    result=PoissonLayoutResult,
+    examples={"graph": _PATH, "vectors": [[-1.0, 0.0], [-1.0, 0.0]],
+              "anchors": {"indices": [0], "positions": [[0.0, 0.0]]}},
+    inputs={"vectors": Points, "anchors": PinsInput | None, "pins": PinsInput | None},
+    check=_edge_vectors,
     reference="Pérez, P., Gangnet, M., Blake, A. (2003). Poisson image editing. ACM TOG "
     "22(3), 313–318.",
     fast_path=True,
     keywords=("poisson", "gradient domain", "least squares", "integration", "anchors"),
 ))
-
-
-# -- layout.mds and layout.stress ------------------------------------------------------------
-_DISTANCES = ("Pairwise distances: an (n, n) matrix, non-negative, zero diagonal; null marks "
-              "an unknown distance. Exactly one of distances, distance_pairs and graph.")
-_PAIRS = "Instead of distances: the known distances as rows (i, j, d); the rest are unknown."
-_N_POINTS = "With distance_pairs: the number of points (default: the largest index + 1)."
-_DGRAPH = ("Instead of distances: a connected graph {nodes, edges, weights?}; the distances "
-           "are its shortest-path lengths, weights being edge lengths (default 1).")
-
-
-class _DistanceParams(Params):
-    distances: DistanceMatrix | None = Field(None, description=_DISTANCES)
-    distance_pairs: DistancePairs | None = Field(None, description=_PAIRS)
-    n_points: int | None = Field(None, ge=2, description=_N_POINTS)
-    graph: GraphInput | None = Field(None, description=_DGRAPH)
-    n_components: int = Field(2, ge=1, description="The dimension k of the layout.")
-
-    @model_validator(mode="after")
-    def _one_source(self) -> _DistanceParams:
-        _one_of({"distances": self.distances, "distance_pairs": self.distance_pairs,
-                 "graph": self.graph}, "distances")
-        if self.n_points is not None and self.distance_pairs is None:
-            raise InvalidInputError("Expected `n_points` only together with `distance_pairs` "
-                                    "(the other inputs fix the number of points).",
-                                    field="n_points")
-        if self.distance_pairs is not None:
-            n = distance_pairs_matrix(self.distance_pairs, self.n_points).shape[0]
-        elif self.distances is not None:
-            n = self.distances.shape[0]
-        else:
-            n = self.graph.n_nodes  # type: ignore[union-attr]
-        if self.n_components > n:
-            raise InvalidInputError(f"Expected `n_components` to be at most the number of "
-                                    f"points ({n}), got {self.n_components}.",
-                                    field="n_components")
-        return self
-
-
-class MDSParams(_DistanceParams):
-    distances: DistanceMatrix | None = Field(None, description=_DISTANCES,
-                                             examples=[_TRIANGLE])
-    rank: int | None = Field(None, ge=1, description="Rank of the completed squared-distance "
-                             "matrix; default n_components + 2. Only used when distances "
-                             "are missing.")
-    max_iterations: int = Field(500, ge=0, le=100_000, description="Refinement iterations of "
-                                "the completion after its one-shot estimate (0: the one-shot "
-                                "estimate of Drineas et al. only).")
-    tolerance: float = Field(1e-7, ge=0, description="The completion stops when the missing "
-                             "squared distances change by less than this, relatively.")
-
 
 registry.add(Process(
     id="layout.mds",
@@ -348,46 +240,16 @@ registry.add(Process(
     "the squared distances (Drineas et al.'s one-shot estimate), refined by alternating "
     "projections. Reports the stress over the known pairs.",
     function=mds,
-    params=MDSParams,
-    result=MDSResult,
+    examples={"distances": _TRIANGLE},
+    inputs=_DISTANCE_INPUTS,
+    limits={"max_iterations": Le(100_000)},
+    check=_distances,
     reference="Torgerson, W. S. (1952). Multidimensional scaling: I. Theory and method. "
     "Psychometrika 17; Drineas, P. et al. (2006). Distance matrix reconstruction from "
     "incomplete distance information for sensor network localization. IEEE SECON.",
     keywords=("mds", "torgerson", "principal coordinates", "matrix completion",
               "localization"),
 ))
-
-
-class StressParams(_DistanceParams):
-    distances: DistanceMatrix | None = Field(None, description=_DISTANCES + " Unknown "
-                                             "distances get weight 0.",
-                                             examples=[_SQUARE_DISTANCES])
-    weighting: Literal["inverse_square", "inverse", "uniform"] = Field(
-        "inverse_square", description="wᵢⱼ = dᵢⱼ⁻² (Gansner, Koren and North: relative "
-        "errors), dᵢⱼ⁻¹, or 1 (scikit-learn's metric MDS: absolute errors).")
-    init: Literal["classical", "random"] = Field(
-        "classical", description="The starting layout: classical MDS (completing missing "
-        "distances first) or standard normal coordinates drawn with seed.")
-    initial_positions: Points | None = Field(
-        None, description="A starting layout (n, k); overrides init.")
-    max_iterations: int = Field(300, ge=0, le=100_000, description="Most Guttman transforms.")
-    tolerance: float = Field(1e-6, ge=0, description="Stop when one iteration lowers the "
-                             "stress by less than this fraction of Σ wᵢⱼ‖xᵢ − xⱼ‖² "
-                             "(scikit-learn's rule); 0 runs all max_iterations.")
-    relaxation: float = Field(1.0, ge=1.0, lt=2.0, description="Step α of the relaxed update "
-                              "X + α(V⁺B(X)X − X): 1 is plain SMACOF; up to 2 (excluded) "
-                              "needs fewer iterations, the stress still never rises.")
-    seed: int = Field(0, ge=0, description="Seed of the random start.")
-
-    @model_validator(mode="after")
-    def _start_fits(self) -> StressParams:
-        x = self.initial_positions
-        if x is not None and x.shape[1] != self.n_components:
-            raise InvalidInputError(
-                f"Expected `initial_positions` to have n_components = {self.n_components} "
-                f"columns, got shape {x.shape}.", field="initial_positions")
-        return self
-
 
 registry.add(Process(
     id="layout.stress",
@@ -398,8 +260,10 @@ registry.add(Process(
     "from a matrix, a list of pairs, or a graph's shortest paths. Progress per iteration, "
     "cancellable; reports the stress history.",
     function=stress,
-    params=StressParams,
-    result=StressResult,
+    examples={"distances": _SQUARE_DISTANCES},
+    inputs=_DISTANCE_INPUTS,
+    limits={"max_iterations": Le(100_000)},
+    check=_distances_and_start,
     reference="Gansner, E. R., Koren, Y., North, S. (2004). Graph drawing by stress "
     "majorization. Graph Drawing 2004, LNCS 3383, 239–250.",
     long=True,

@@ -56,10 +56,10 @@ class Output:
 
 
 def input_description(decl: Declaration, type_text: str, description: str) -> str:
-    """The description of an input: its numpydoc description, for an array preceded by its
-    documented shape (``(n, d) float array.``), as plain text."""
+    """The description of an input: its numpydoc description, for an array whose documented
+    type starts with its shape preceded by it (``(n, d) float array.``), as plain text."""
     text = plain(description)
-    if decl.kind is not None and decl.kind is not Kind.SEED and type_text:
+    if decl.kind is not None and type_text.startswith("("):  # "(n, d) float array"
         shape = re.sub(r",\s*(optional|default\b.*)$", "", type_text).strip()
         text = f"{plain(shape)}. {text}" if text else plain(shape)
     return text

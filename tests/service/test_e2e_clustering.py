@@ -67,7 +67,7 @@ def test_lda_and_nca_classify_queries(http) -> None:
     ("clustering.spectral", {"points": GROUPS, "n_neighbors": 8}, "n_neighbors",
      "minus one"),
     ("clustering.spectral", {"points": GROUPS, "n_clusters": 9, "n_neighbors": 2},
-     "n_clusters", "at most"),
+     "n_clusters", "<= 8 (the number of `points`)"),
     ("clustering.spectral", {"points": GROUPS, "neighbors": "radius"}, "radius", "radius"),
     ("clustering.markov", {"points": GROUPS, "n_neighbors": 20}, "n_neighbors", "minus one"),
     ("clustering.markov", {"n_neighbors": 2}, "points", "exactly one"),

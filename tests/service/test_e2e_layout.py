@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+
 from tests.live import wait_for_status
 
 pytestmark = pytest.mark.e2e
@@ -144,7 +145,7 @@ def test_every_layout_method_is_listed(http) -> None:
                    "pins": PIN}, "graph.weights", "non-negative"),
     ("laplacian", {"graph": {"nodes": 3, "links": []}, "pins": PIN}, "graph", "'edges'"),
     ("laplacian", {"graph": PATH}, "pins", "Expected `pins` with a `graph`"),
-    ("laplacian", {}, "mesh", "exactly one of `mesh`, `graph`, got none"),
+    ("laplacian", {}, "mesh", "exactly one of `mesh` and `graph`, got none"),
     ("laplacian", {"mesh": SQUARE, "graph": PATH}, "graph", "got `mesh` and `graph`"),
     # pins missing for a component (found by the worker), out of range, NaN
     ("laplacian", {"graph": {"nodes": 4, "edges": [[0, 1], [2, 3]]}, "pins": PIN}, "pins",
@@ -182,7 +183,8 @@ def test_every_layout_method_is_listed(http) -> None:
     ("mds", {"distance_pairs": [[0, 4, 1.0]], "n_points": 3}, "distance_pairs", "below 3"),
     ("mds", {"distance_pairs": [[0, 1, 1.0], [2, 3, 1.0]]}, "distance_pairs", "2 groups"),
     ("mds", {"distances": TRIANGLE, "n_points": 3}, "n_points", "only together"),
-    ("mds", {"distances": TRIANGLE, "n_components": 4}, "n_components", "at most"),
+    ("mds", {"distances": TRIANGLE, "n_components": 4}, "n_components",
+     "<= 3 (the number of points)"),
     ("mds", {}, "distances", "exactly one of"),
     ("mds", {"graph": {"nodes": 4, "edges": [[0, 1], [2, 3]]}}, "graph", "2 components"),
     ("stress", {"distances": [[0, 0, 1], [0, 0, 1], [1, 1, 0]]}, "distances",
@@ -190,7 +192,7 @@ def test_every_layout_method_is_listed(http) -> None:
     ("stress", {"distances": LINE, "initial_positions": [[0, 0], [1, 1]]},
      "initial_positions", "one row per point"),
     ("stress", {"distances": LINE, "initial_positions": [[0, 0, 0]] * 3},
-     "initial_positions", "n_components = 2"),
+     "initial_positions", "an (n, 2) array"),
     ("stress", {"distances": LINE, "relaxation": 2.0}, "relaxation", ""),
     ("stress", {"distances": [[0, "x"], ["x", 0]]}, "distances", ""),
 ])

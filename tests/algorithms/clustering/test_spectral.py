@@ -9,9 +9,10 @@ from sklearn.cluster import SpectralClustering
 from sklearn.datasets import make_blobs, make_moons
 from sklearn.metrics import adjusted_rand_score
 
-from algorithms.clustering import spectral
-from algorithms.clustering._kmeans import kmeans
+from algorithms.clustering import markov, spectral
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.graphs import NEIGHBORS, WEIGHTINGS
+from algorithms.core.params import declarations
 
 
 def test_two_triangles_by_hand() -> None:
@@ -23,16 +24,6 @@ def test_two_triangles_by_hand() -> None:
     np.testing.assert_allclose(res.eigenvalues, [0, 0], atol=1e-12)
     assert res.graph_components == 2
     assert np.ptp(res.embedding[:3], axis=0).max() < 1e-12
-
-
-def test_kmeans_plus_plus_finds_obvious_centres_and_is_deterministic() -> None:
-    rng = np.random.default_rng(1)
-    centres = np.array([[0, 0], [20, 0], [0, 20]])
-    x = np.repeat(centres, 30, axis=0) + rng.normal(0, 0.5, (90, 2))
-    a, b = kmeans(x, 3, seed=7), kmeans(x, 3, seed=7)
-    assert np.array_equal(a.labels, b.labels) and np.array_equal(a.centers, b.centers)
-    assert a.labels.tolist() == np.repeat([0, 1, 2], 30).tolist()
-    np.testing.assert_allclose(a.centers, centres, atol=0.3)
 
 
 @pytest.mark.parametrize("name, data, k", [
@@ -84,6 +75,11 @@ def test_more_components_than_clusters_warns() -> None:
     ({"neighbors": "radius"}, "radius", "Expected `radius`"),
     ({"neighbors": "grid"}, "neighbors", "one of"),
     ({"weighting": "cotangent"}, "weighting", "one of"),
+    ({"n_init": 0}, "n_init", ">= 1"),
+    ({"n_neighbors": 0}, "n_neighbors", ">= 1"),
+    ({"radius": -1.0}, "radius", "> 0"),
+    ({"sigma": 0.0}, "sigma", "> 0"),
+    ({"seed": -1}, "seed", ">= 0"),
 ])
 def test_bad_input(kwargs, field, match) -> None:
     pts = np.arange(12.0).reshape(6, 2)
@@ -96,3 +92,11 @@ def test_bad_points() -> None:
     with pytest.raises(InvalidInputError, match="row 1") as err:
         spectral([[0, 0], [np.nan, 1], [2, 2]], n_clusters=2, n_neighbors=1)
     assert err.value.field == "points"
+
+
+def test_neighbour_graph_choices_are_those_of_core() -> None:
+    """The declared choices are the ones algorithms.core.graphs.neighbour_graph accepts."""
+    for method in (spectral, markov):
+        declared = declarations(method)
+        assert declared["neighbors"].scalars[0].choices == NEIGHBORS
+        assert declared["weighting"].scalars[0].choices == WEIGHTINGS

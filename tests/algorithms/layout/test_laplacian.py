@@ -156,8 +156,9 @@ PIN = {"indices": [0], "positions": [[0.0, 0.0]]}
 
 
 @pytest.mark.parametrize("kwargs, error, field, match", [
-    ({}, InvalidInputError, "mesh", "exactly one of `mesh` and `graph`, got neither"),
-    ({"mesh": (SQUARE_V, SQUARE_F), "graph": PATH}, InvalidInputError, "graph", "got both"),
+    ({}, InvalidInputError, "mesh", "exactly one of `mesh` and `graph`, got none"),
+    ({"mesh": (SQUARE_V, SQUARE_F), "graph": PATH}, InvalidInputError, "graph",
+     "got `mesh` and `graph`"),
     ({"graph": PATH}, DegenerateInputError, "pins", "Expected `pins` with a `graph`"),
     ({"graph": {"nodes": 3, "edges": [[0, 1], [1, 3]]}, "pins": PIN}, InvalidInputError,
      "graph.edges", "below 3, got 3 at row 1"),

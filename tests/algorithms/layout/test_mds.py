@@ -210,6 +210,8 @@ NAN = float("nan")
      "<= 3"),
     ({"distances": TRIANGLE, "n_components": 0}, InvalidInputError, "n_components", ">= 1"),
     ({"distances": TRIANGLE, "rank": 1}, InvalidInputError, "rank", ">= 2"),
+    ({"distances": TRIANGLE, "rank": 0}, InvalidInputError, "rank", "integer >= 1, got 0"),
+    ({"distances": TRIANGLE, "rank": 4}, InvalidInputError, "rank", "<= 3"),
     ({"distances": TRIANGLE, "max_iterations": -1}, InvalidInputError, "max_iterations",
      ">= 0"),
     ({"distances": TRIANGLE, "tolerance": NAN}, InvalidInputError, "tolerance", "finite"),

@@ -154,7 +154,7 @@ V2 = [[1.0, 0.0], [1.0, 0.0]]
 
 
 @pytest.mark.parametrize("kwargs, error, field, match", [
-    ({"vectors": V2}, InvalidInputError, "mesh", "got neither"),
+    ({"vectors": V2}, InvalidInputError, "mesh", "exactly one of `mesh` and `graph`, got none"),
     ({"graph": PATH, "vectors": [[1.0, 0.0]]}, InvalidInputError, "vectors",
      r"one row per edge of `graph` \(2\), got 1"),
     ({"graph": PATH, "vectors": [[1.0, np.inf], [1.0, 0.0]]}, InvalidInputError, "vectors",
@@ -174,6 +174,8 @@ V2 = [[1.0, 0.0], [1.0, 0.0]]
       "anchor_weights": [1.0, 2.0]}, InvalidInputError, "anchor_weights", "shape"),
     ({"graph": PATH, "vectors": V2, "weighting": "tangent"}, InvalidInputError, "weighting",
      "need a mesh"),
+    ({"graph": PATH, "vectors": V2, "weighting": "harmonic"}, InvalidInputError, "weighting",
+     "one of 'uniform', 'cotangent', 'tangent'"),
     ({"graph": {"nodes": 3, "edges": [[0, 1], [1, -1]]}, "vectors": V2}, InvalidInputError,
      "graph.edges", "non-negative"),
     ({"mesh": ([[0, 0], [1, 0], [1, 0]], [[0, 1, 2]]), "vectors": V2},

@@ -232,6 +232,8 @@ def test_iteration_limit_warns():
     ({"distances": LINE, "tolerance": -1}, InvalidInputError, "tolerance", ">= 0"),
     ({"distances": LINE, "relaxation": 2.0}, InvalidInputError, "relaxation", "< 2.0"),
     ({"distances": LINE, "relaxation": 0.5}, InvalidInputError, "relaxation", ">= 1.0"),
+    ({"distances": LINE, "seed": -1}, InvalidInputError, "seed", ">= 0"),
+    ({"distances": LINE, "n_components": 0}, InvalidInputError, "n_components", ">= 1"),
     ({"distances": [[0, 1], [1, 0], [2, 2]]}, InvalidInputError, "distances", "square"),
     ({"distances": [[0, -1], [-1, 0]]}, InvalidInputError, "distances", "non-negative"),
     ({"distance_pairs": [[0, 1, 1.0], [2, 3, 1.0]]}, DegenerateInputError, "distance_pairs",
