@@ -10,13 +10,11 @@ from typing import Any
 import numpy as np
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.mesh import read_mesh  # re-exported for the family's modules
-from algorithms.core.mesh import Handles, Mesh, as_handles, components
+from algorithms.core.mesh import Handles, Mesh, as_handles, components, read_mesh
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_indices, as_points
 
 __all__ = [
-    "read_mesh",
     "read_handles",
     "read_handle_indices",
     "read_positions",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 import scipy.sparse as sp
@@ -12,24 +12,27 @@ import scipy.sparse as sp
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
 from algorithms.core.laplacian import cotangent_entries, cotangent_laplacian
 from algorithms.core.linalg import RotationFitter
-from algorithms.core.linsolve import BACKENDS, Factor, available_backends
-from algorithms.core.mesh import Handles, Mesh
+from algorithms.core.linsolve import Factor, available_backends
+from algorithms.core.mesh import Handles, Mesh, read_mesh
+from algorithms.core.params import Ge, HandlesLike, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_bool, as_choice, as_float, as_int, as_points
+from algorithms.core.validation import as_points
 from algorithms.deformation._common import (
     handle_residual,
     pins_of,
     read_handle_indices,
     read_handles,
-    read_mesh,
     read_positions,
 )
 
 __all__ = ["ArapResult", "ArapSolver", "arap", "ENERGIES"]
 
+Energy = Literal["spokes_and_rims", "spokes"]
+Backend = Literal["auto", "cholmod", "cholespy", "superlu"]
+"""``"auto"`` or one of :data:`algorithms.core.linsolve.BACKENDS`."""
 #: The accepted values of ``energy``.
-ENERGIES = ("spokes_and_rims", "spokes")
+ENERGIES = get_args(Energy)
 
 #: Energies below this fraction of the rest shape's total weighted squared edge length
 #: count as zero (rounding noise of the trace formula used to evaluate them).
@@ -154,13 +157,13 @@ class ArapSolver:
     coordinates as columns.
     """
 
-    def __init__(self, mesh: Any, handle_indices: Any, *, energy: str = "spokes_and_rims",
-                 similarity: bool = False, backend: str = "auto",
-                 _handles_name: str = "handle_indices") -> None:
+    @validate_params
+    def __init__(self, mesh: MeshLike, handle_indices: Any, *,
+                 energy: Energy = "spokes_and_rims", similarity: bool = False,
+                 backend: Backend = "auto", _handles_name: str = "handle_indices") -> None:
         self.mesh = read_mesh(mesh)
-        self.energy = as_choice(energy, ENERGIES, name="energy")
-        self.similarity = as_bool(similarity, name="similarity")
-        as_choice(backend, ("auto",) + BACKENDS, name="backend")
+        self.energy = energy
+        self.similarity = similarity
         self.handle_indices = read_handle_indices(handle_indices, self.mesh,
                                                   name=_handles_name)
         self._name = _handles_name
@@ -210,8 +213,11 @@ class ArapSolver:
         self.factor = Factor(self._L_ff, backend=backend, name="L")
         self._fit = RotationFitter(n, d)
 
-    def solve(self, handle_positions: Any, *, initial: Any = None, max_iterations: int = 30,
-              tolerance: float = 1e-5, progress: Progress | None = None) -> ArapResult:
+    @validate_params
+    def solve(self, handle_positions: Any, *, initial: Any = None,
+              max_iterations: Annotated[int, Ge(1)] = 30,
+              tolerance: Annotated[float, Ge(0)] = 1e-5,
+              progress: Progress | None = None) -> ArapResult:
         r"""Deform the mesh so that the handles reach ``handle_positions``.
 
         Parameters
@@ -247,8 +253,6 @@ class ArapSolver:
         targets = read_positions(handle_positions, self.handle_indices.shape[0], d,
                                  name="handles.positions" if self._name == "handles"
                                  else "handle_positions")
-        max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-        tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
         report = as_progress(progress)
         c = self.pins.values(targets, v)                              # pinned values
         if initial is None:
@@ -308,14 +312,15 @@ class ArapSolver:
                           iterations=len(energies), converged=converged)
 
 
+@validate_params
 def arap(
-    mesh: Any,
-    handles: Any,
+    mesh: MeshLike,
+    handles: HandlesLike,
     *,
-    energy: str = "spokes_and_rims",
+    energy: Energy = "spokes_and_rims",
     similarity: bool = False,
-    max_iterations: int = 30,
-    tolerance: float = 1e-5,
+    max_iterations: Annotated[int, Ge(1)] = 30,
+    tolerance: Annotated[float, Ge(0)] = 1e-5,
     progress: Progress | None = None,
 ) -> ArapResult:
     r"""Deform a mesh as rigidly as possible so that its handles reach their targets.
@@ -344,17 +349,21 @@ def arap(
 
     Parameters
     ----------
-    mesh : Mesh or (vertices, faces)
-        The rest shape: ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces without
-        zero-area ones. Vertices no face uses stay where they are.
+    mesh : Mesh or {"vertices", "faces"}
+        The rest shape: ``(n, 2)`` or ``(n, 3)`` vertices and ``(m, 3)`` triangles of
+        0-based vertex indices, no zero-area ones. Vertices no face uses stay where they
+        are.
     handles : Handles or {"indices", "positions"}
-        Distinct vertex indices and their ``(p, d)`` target positions; at least one handle
-        in every connected component.
+        The vertices to move and their targets: ``(p,)`` distinct vertex indices and their
+        ``(p, d)`` positions; at least one handle in every connected component.
     energy : {"spokes_and_rims", "spokes"}, default "spokes_and_rims"
-        The edge sets above; libigl's ``ARAP_ENERGY_TYPE_SPOKES_AND_RIMS`` and
-        ``ARAP_ENERGY_TYPE_SPOKES``.
+        The edges each vertex's rotation answers for: ``"spokes_and_rims"`` every edge of
+        the faces around the vertex (Chao et al.; libigl's default,
+        ``ARAP_ENERGY_TYPE_SPOKES_AND_RIMS``), ``"spokes"`` only the edges at the vertex
+        (Sorkine & Alexa; ``ARAP_ENERGY_TYPE_SPOKES``).
     similarity : bool, default False
-        Allow a scale per vertex (as-similar-as-possible).
+        Fit a non-negative scale per vertex too, besides its rotation
+        (as-similar-as-possible).
     max_iterations : int, default 30
         Upper bound on local/global iterations.
     tolerance : float, default 1e-5
@@ -382,13 +391,11 @@ def arap(
 
     Notes
     -----
-    The seed document describes this method (vertex transforms, edge error) as "rigid
-    alignment and Laplacian-preserving deformation in turn" and notes the outcome is *like*
-    a rigid motion, neither rigid nor as-rigid-as-possible in the singular-value sense. The
-    seed's correction of the *face*-based variant (whose global step is not a Laplacian
-    solve) does not apply to this vertex-based energy, whose global step is exactly
-    Sorkine & Alexa's eq. (9) (for spokes; spokes and rims average the face's three
-    rotations instead of the edge's two).
+    The method is a rigid alignment per vertex and a Laplacian-preserving deformation in
+    turn; the outcome is *like* a rigid motion, neither rigid nor as-rigid-as-possible in
+    the singular-value sense. With one rotation per vertex the global step is exactly
+    Sorkine & Alexa's eq. (9), a cotangent-Laplacian solve (for spokes; spokes and rims
+    average the face's three rotations instead of the edge's two).
 
     The energy is reported as written above, summed over every vertex's edge set, so
     "spokes" counts each edge twice and "spokes_and_rims" each face's edges three times.

@@ -3,14 +3,14 @@ r"""Biharmonic deformation: the handle displacements spread by the bi-Laplace eq
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 
-from algorithms.core.mesh import Mesh
+from algorithms.core.mesh import Mesh, read_mesh
+from algorithms.core.params import Ge, HandlesLike, Le, MeshLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_int
-from algorithms.deformation._common import handle_residual, read_handles, read_mesh
+from algorithms.deformation._common import handle_residual, read_handles
 from algorithms.deformation.harmonic import k_harmonic
 
 __all__ = ["BiharmonicResult", "biharmonic"]
@@ -37,7 +37,9 @@ class BiharmonicResult:
     handle_residual: float
 
 
-def biharmonic(mesh: Any, handles: Any, *, order: int = 2) -> BiharmonicResult:
+@validate_params
+def biharmonic(mesh: MeshLike, handles: HandlesLike, *,
+               order: Annotated[int, Ge(2), Le(3)] = 2) -> BiharmonicResult:
     r"""Move the handles to their targets and the rest of the mesh by the biharmonic
     (thin-plate) extension of their displacements.
 
@@ -59,14 +61,17 @@ def biharmonic(mesh: Any, handles: Any, *, order: int = 2) -> BiharmonicResult:
 
     Parameters
     ----------
-    mesh : Mesh or (vertices, faces)
-        ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces without zero-area ones.
-        Vertices no face uses stay where they are.
+    mesh : Mesh or {"vertices", "faces"}
+        The rest shape: ``(n, 2)`` or ``(n, 3)`` vertices and ``(m, 3)`` triangles of
+        0-based vertex indices, no zero-area ones. Vertices no face uses stay where they
+        are.
     handles : Handles or {"indices", "positions"}
-        Distinct vertex indices and their ``(p, d)`` targets; at least one in every
-        connected component (two rings of handles pin a boundary's position and slope).
+        The vertices to move and their targets: ``(p,)`` distinct vertex indices and their
+        ``(p, d)`` positions; at least one handle in every connected component (two rings
+        of handles pin a boundary's position and slope).
     order : {2, 3}, default 2
-        The power ``k`` of the Laplacian.
+        The power ``k`` of the Laplacian: 2 (biharmonic, :math:`Q = L M^{-1} L`) or 3
+        (triharmonic, smoother still).
 
     Returns
     -------
@@ -83,12 +88,13 @@ def biharmonic(mesh: Any, handles: Any, *, order: int = 2) -> BiharmonicResult:
 
     Notes
     -----
-    The seed document's bending energy :math:`\min \sum_c \lVert H(F_c)\rVert^2
-    \Rightarrow L_{cot}^2 x = 0`; the mass matrix between the two Laplacians makes the
-    discretisation independent of the mesh's resolution (each :math:`L` integrates over a
-    vertex's area, :math:`M^{-1}` turns that back into a pointwise value). As in
-    :func:`~algorithms.deformation.harmonic`, the equation holds for the displacement.
-    :math:`Q` is formed explicitly (two-ring sparsity) and factored once.
+    **The mass matrix between the Laplacians.** The bending energy :math:`\min \sum_c \lVert
+    H(F_c)\rVert^2` is often discretised as :math:`L_{cot}^2\, x = 0`; the mass matrix
+    between the two Laplacians, :math:`L M^{-1} L`, makes the discretisation independent of
+    the mesh's resolution (each :math:`L` integrates over a vertex's area, :math:`M^{-1}`
+    turns that back into a pointwise value). As in :func:`~algorithms.deformation.harmonic`,
+    the equation holds for the displacement. :math:`Q` is formed explicitly (two-ring
+    sparsity) and factored once.
 
     References
     ----------
@@ -109,7 +115,6 @@ def biharmonic(mesh: Any, handles: Any, *, order: int = 2) -> BiharmonicResult:
     """
     m = read_mesh(mesh)
     h = read_handles(handles, m)
-    k = as_int(order, name="order", minimum=2, maximum=3)
-    x, energy = k_harmonic(m, h.indices, h.positions, k)
+    x, energy = k_harmonic(m, h.indices, h.positions, order)
     return BiharmonicResult(mesh=Mesh(x, m.faces), energy=np.array([energy]),
                             handle_residual=handle_residual(x, h))

@@ -4,17 +4,17 @@ per-triangle deformation of a source mesh with the same connectivity."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import DEGENERATE_RTOL, Mesh
+from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, read_mesh
+from algorithms.core.params import HandlesLike, MeshLike, PointsLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_points
-from algorithms.deformation._common import handle_residual, pins_of, read_handles, read_mesh
+from algorithms.deformation._common import handle_residual, pins_of, read_handles
 
 __all__ = ["DeformationTransferResult", "deformation_transfer", "frames"]
 
@@ -76,12 +76,13 @@ def _check_frames(vertices: FloatArray, faces: IntArray, name: str) -> None:
             f"{row}.", field=name)
 
 
+@validate_params
 def deformation_transfer(
-    mesh: Any,
-    handles: Any,
+    mesh: MeshLike,
+    handles: HandlesLike,
     *,
-    source: Any,
-    source_deformed: Any,
+    source: PointsLike,
+    source_deformed: PointsLike,
 ) -> DeformationTransferResult:
     r"""Deform ``mesh`` (the target) the way ``source`` deforms into ``source_deformed``:
     face by face, the target's deformation gradient follows the source's.
@@ -105,18 +106,21 @@ def deformation_transfer(
 
     Parameters
     ----------
-    mesh : Mesh or (vertices, faces)
-        The target in its rest shape: ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces
-        without zero-area ones.
+    mesh : Mesh or {"vertices", "faces"}
+        The target in its rest shape: ``(n, 2)`` or ``(n, 3)`` vertices and ``(m, 3)``
+        triangles of 0-based vertex indices, no zero-area ones. Vertices no face uses stay
+        where they are.
     handles : Handles or {"indices", "positions"}
-        Distinct target vertex indices and their ``(p, d)`` positions; at least one in
-        every connected component (the per-face gradients leave a translation free). To
-        transfer without user constraints, pin one vertex per component where the source's
-        motion puts it (e.g. its rest position plus the source's displacement there).
+        Target vertices held at given positions: ``(p,)`` distinct vertex indices and their
+        ``(p, d)`` positions; at least one in every connected component (the per-face
+        gradients leave a translation free). To transfer without user constraints, pin one
+        vertex per component where the source's motion puts it (e.g. its rest position plus
+        the source's displacement there).
     source : (n, d) float array
-        The source's rest vertices, on ``mesh.faces``; no zero-area faces.
+        The source's rest vertices on the faces of ``mesh`` (the same connectivity: vertex
+        ``i`` corresponds to target vertex ``i``); no zero-area faces.
     source_deformed : (n, d) float array
-        The source's deformed vertices, on ``mesh.faces``.
+        The source's deformed vertices, on the faces of ``mesh`` too.
 
     Returns
     -------
@@ -134,10 +138,10 @@ def deformation_transfer(
 
     Notes
     -----
-    The seed document's "affine transforms kept as fixed as possible": face transforms
+    The per-face transforms are kept as close as possible to given ones,
     :math:`\min \sum_c \lVert A_c - A_c^{(0)}\rVert^2` subject to neighbouring triangles
-    sharing vertices, with :math:`A_c` written through the face's edge basis ("take one
-    corner as origin and its two edges as basis") so that the unknowns are the vertices.
+    sharing vertices, with :math:`A_c` written through the face's edge basis (one corner as
+    origin and its two edges as basis) so that the unknowns are the vertices.
     Sumner & Popović add the normal as a third basis vector so that the 3-D transform is
     defined; the fourth vertices are extra unknowns of the solve, as in the paper. The
     paper's correspondence step (meshes of different connectivity) is not part of this

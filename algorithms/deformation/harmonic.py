@@ -10,9 +10,10 @@ import scipy.sparse as sp
 
 from algorithms.core.laplacian import cotangent_laplacian, mass_matrix
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import Mesh
+from algorithms.core.mesh import Mesh, read_mesh
+from algorithms.core.params import HandlesLike, MeshLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.deformation._common import handle_residual, pins_of, read_handles, read_mesh
+from algorithms.deformation._common import handle_residual, pins_of, read_handles
 
 __all__ = ["HarmonicResult", "harmonic", "k_harmonic"]
 
@@ -71,7 +72,8 @@ def k_harmonic(mesh: Mesh, handle_indices: Any, handle_positions: FloatArray, k:
     return v + u, energy
 
 
-def harmonic(mesh: Any, handles: Any) -> HarmonicResult:
+@validate_params
+def harmonic(mesh: MeshLike, handles: HandlesLike) -> HarmonicResult:
     r"""Move the handles to their targets and the rest of the mesh by the harmonic
     extension of their displacements.
 
@@ -91,12 +93,13 @@ def harmonic(mesh: Any, handles: Any) -> HarmonicResult:
 
     Parameters
     ----------
-    mesh : Mesh or (vertices, faces)
-        ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces without zero-area ones.
-        Vertices no face uses stay where they are.
+    mesh : Mesh or {"vertices", "faces"}
+        The rest shape: ``(n, 2)`` or ``(n, 3)`` vertices and ``(m, 3)`` triangles of
+        0-based vertex indices, no zero-area ones. Vertices no face uses stay where they
+        are.
     handles : Handles or {"indices", "positions"}
-        Distinct vertex indices and their ``(p, d)`` targets; at least one in every
-        connected component.
+        The vertices to move and their targets: ``(p,)`` distinct vertex indices and their
+        ``(p, d)`` positions; at least one handle in every connected component.
 
     Returns
     -------
@@ -114,11 +117,13 @@ def harmonic(mesh: Any, handles: Any) -> HarmonicResult:
 
     Notes
     -----
-    The seed document's "minimum energy deformation" (smoothing energy
-    :math:`\min \sum_c \lVert J(F_c)\rVert_F^2 \Rightarrow L_{cot} x = 0`). Following libigl
-    (and its tutorial 402) the equation is applied to the displacement, not to the
-    positions: on a curved surface :math:`L p \ne 0`, and solving for positions would
-    flatten the shape towards a minimal surface even with the handles at rest.
+    **The displacement, not the positions.** The smoothing energy of the map,
+    :math:`\min \sum_c \lVert J(F_c)\rVert_F^2`, is often discretised as
+    :math:`L_{cot}\, x = 0` for the new positions :math:`x`. On a curved surface
+    :math:`L p \ne 0`, so solving for the positions flattens the shape towards a minimal
+    surface even with the handles at rest. Following libigl (and its tutorial 402) the
+    equation is applied to the displacement instead, and handles at rest give the rest
+    shape.
 
     References
     ----------

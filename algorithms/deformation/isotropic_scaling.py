@@ -5,18 +5,18 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 import scipy.sparse as sp
 
 from algorithms.core.errors import ConvergenceWarning
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import Mesh
+from algorithms.core.mesh import Mesh, read_mesh
+from algorithms.core.params import Ge, HandlesLike, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_float, as_int
-from algorithms.deformation._common import handle_residual, pins_of, read_handles, read_mesh
+from algorithms.deformation._common import handle_residual, pins_of, read_handles
 
 __all__ = ["IsotropicScalingResult", "isotropic_scaling"]
 
@@ -52,13 +52,14 @@ class IsotropicScalingResult:
     converged: bool
 
 
+@validate_params
 def isotropic_scaling(
-    mesh: Any,
-    handles: Any,
+    mesh: MeshLike,
+    handles: HandlesLike,
     *,
-    regularization: float = 1.0,
-    max_iterations: int = 200,
-    tolerance: float = 1e-6,
+    regularization: Annotated[float, Ge(0)] = 1.0,
+    max_iterations: Annotated[int, Ge(1)] = 200,
+    tolerance: Annotated[float, Ge(0)] = 1e-6,
     progress: Progress | None = None,
 ) -> IsotropicScalingResult:
     r"""Move the handles to their targets, letting every face scale uniformly (no rotation,
@@ -82,12 +83,13 @@ def isotropic_scaling(
 
     Parameters
     ----------
-    mesh : Mesh or (vertices, faces)
-        ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces without zero-area ones.
-        Vertices no face uses stay where they are.
+    mesh : Mesh or {"vertices", "faces"}
+        The rest shape: ``(n, 2)`` or ``(n, 3)`` vertices and ``(m, 3)`` triangles of
+        0-based vertex indices, no zero-area ones. Vertices no face uses stay where they
+        are.
     handles : Handles or {"indices", "positions"}
-        Distinct vertex indices and their ``(p, d)`` targets; at least one in every
-        connected component.
+        The vertices to move and their targets: ``(p,)`` distinct vertex indices and their
+        ``(p, d)`` positions; at least one handle in every connected component.
     regularization : float, default 1.0
         :math:`\lambda \ge 0`, the weight of the edge-length term. ``0`` leaves only the
         scales, with which faces overlap easily; larger values keep edge directions
@@ -120,18 +122,19 @@ def isotropic_scaling(
 
     Notes
     -----
-    Follows the seed document's "isotropic scaling deformation" (face transforms, edge
-    error), including its correction of the original paper: Wang et al. fix :math:`l`
-    and solve for :math:`p'`, but :math:`l` is a function of :math:`p'` and cannot be
-    split off as an independent block. As the seed prescribes, the length ratios of the
+    **A correction of the paper.** Wang et al. alternate as if the length ratios were a
+    block of their own, fixing :math:`l` and solving for :math:`p'`; but :math:`l` is a
+    function of :math:`p'` (:math:`l_{ij} = \lVert e'_{ij}\rVert / \lVert e_{ij}\rVert`)
+    and cannot be split off as an independent block. Here the length ratios of the
     *previous* iterate regularise each global step,
     :math:`l_{ij} = \lVert p'^{(t-1)}_i - p'^{(t-1)}_j \rVert / \lVert p_i - p_j \rVert`;
     the first step starts from the rest shape's own :math:`s = l = 1` (so it is the
-    Laplacian-preserving deformation, exact for translations). The iteration is therefore a fixed-point scheme rather than an exact block descent: the
-    reported energy (the objective with :math:`s` and :math:`l` fitted to each iterate) need
-    not decrease, since the scheme's fixed point does not minimise the objective with
-    :math:`l` tied to :math:`p'` (on the catalog's example it rises by 0.1 % while the
-    vertices settle). Convergence is tested on the vertices instead. The length term equals
+    Laplacian-preserving deformation, exact for translations). The iteration is therefore
+    a fixed-point scheme rather than an exact block descent: the reported energy (the
+    objective with :math:`s` and :math:`l` fitted to each iterate) need not decrease,
+    since the scheme's fixed point does not minimise the objective with :math:`l` tied to
+    :math:`p'` (on the catalog's example it rises by 0.1 % while the vertices settle).
+    Convergence is tested on the vertices instead. The length term equals
     :math:`2\lVert e'\rVert^2 (1 - \cos\angle(e', e))`: it penalises edges turning away
     from their rest directions. Wang et al. weight faces by an importance map for image
     resizing; all faces weigh the same here.
@@ -154,9 +157,7 @@ def isotropic_scaling(
     """
     m = read_mesh(mesh)
     h = read_handles(handles, m)
-    lam = as_float(regularization, name="regularization", minimum=0.0)
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
+    lam = regularization
     report = as_progress(progress)
     v, f = m.vertices, m.faces
     n, d = v.shape

@@ -4,21 +4,22 @@ handles."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Literal, get_args
 
 import numpy as np
 
 from algorithms.core.laplacian import mesh_laplacian
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import Mesh
+from algorithms.core.mesh import Mesh, read_mesh
+from algorithms.core.params import HandlesLike, MeshLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_choice
-from algorithms.deformation._common import handle_residual, pins_of, read_handles, read_mesh
+from algorithms.deformation._common import handle_residual, pins_of, read_handles
 
 __all__ = ["LaplacianResult", "laplacian", "WEIGHTS"]
 
+Weights = Literal["cotangent", "uniform", "tangent"]
 #: The accepted values of ``weights``.
-WEIGHTS = ("cotangent", "uniform", "tangent")
+WEIGHTS = get_args(Weights)
 
 
 @dataclass(frozen=True, eq=False)
@@ -42,7 +43,9 @@ class LaplacianResult:
     handle_residual: float
 
 
-def laplacian(mesh: Any, handles: Any, *, weights: str = "cotangent") -> LaplacianResult:
+@validate_params
+def laplacian(mesh: MeshLike, handles: HandlesLike, *, weights: Weights = "cotangent"
+              ) -> LaplacianResult:
     r"""Move the handles to their targets and every other vertex so that the edge vectors
     change as little as possible.
 
@@ -58,18 +61,18 @@ def laplacian(mesh: Any, handles: Any, *, weights: str = "cotangent") -> Laplaci
 
     Parameters
     ----------
-    mesh : Mesh or (vertices, faces)
-        ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces without zero-area ones.
-        Vertices no face uses stay where they are.
+    mesh : Mesh or {"vertices", "faces"}
+        The rest shape: ``(n, 2)`` or ``(n, 3)`` vertices and ``(m, 3)`` triangles of
+        0-based vertex indices, no zero-area ones. Vertices no face uses stay where they
+        are.
     handles : Handles or {"indices", "positions"}
-        Distinct vertex indices and their ``(p, d)`` targets; at least one in every
-        connected component.
+        The vertices to move and their targets: ``(p,)`` distinct vertex indices and their
+        ``(p, d)`` positions; at least one handle in every connected component.
     weights : {"cotangent", "uniform", "tangent"}, default "cotangent"
-        The edge weights :math:`w_{ij}` of :math:`L = D - W`
-        (:func:`~algorithms.core.laplacian.mesh_laplacian`): cotangent (the Dirichlet
-        energy; may be negative on obtuse triangles), uniform (the graph Laplacian, as in
-        Sorkine et al.'s Laplacian coordinates), or tangent (incentre weights, never
-        negative).
+        The edge weights :math:`w_{ij}` of the Laplacian :math:`L = D - W`:
+        ``"cotangent"`` (the Dirichlet energy; may be negative on obtuse triangles),
+        ``"uniform"`` (the graph Laplacian, as in Sorkine et al.'s Laplacian coordinates)
+        or ``"tangent"`` (incentre weights, never negative).
 
     Returns
     -------
@@ -86,12 +89,12 @@ def laplacian(mesh: Any, handles: Any, *, weights: str = "cotangent") -> Laplaci
 
     Notes
     -----
-    The seed document's "Laplacian preserving deformation": identity transforms, edge
-    error; "solve :math:`L_{00} x' = L_{00} x - L_{01} c`". Its right-hand side is
-    :math:`(L x)_0 = L_{00} x_0 + L_{01} x_1`, the Laplacian coordinates of the rest shape
-    (the seed's :math:`L_{00} x` reads as the free rows of :math:`L x`: with
-    :math:`L_{00} x_0` alone the rest shape would not be reproduced with the handles at
-    rest). With the handles at rest the rest shape is the exact solution. With cotangent
+    **The right-hand side is the free rows of** :math:`L p`. The system is sometimes
+    written :math:`L_{ff}\, p'_f = L_{ff}\, p - L_{fp}\, c`; the product there must be the
+    free rows of the whole :math:`L p`, :math:`(L p)_f = L_{ff} p_f + L_{fp} p_p`, the
+    Laplacian coordinates of the rest shape: with :math:`L_{ff} p_f` alone the rest shape
+    would not be reproduced with the handles at rest. With the right-hand side above, the
+    handles at rest give the rest shape exactly. With cotangent
     weights this is the same deformation as :func:`~algorithms.deformation.harmonic`:
     :math:`L_{ff} p'_f = (Lp)_f - L_{fp} c` is :math:`L_{ff} u_f = -L_{fp} u_p` for the
     displacement :math:`u = p' - p`. The edge vectors keep their directions: the method does
@@ -118,10 +121,9 @@ def laplacian(mesh: Any, handles: Any, *, weights: str = "cotangent") -> Laplaci
     """
     m = read_mesh(mesh)
     h = read_handles(handles, m)
-    kind = as_choice(weights, WEIGHTS, name="weights")
     v = m.vertices
     pins = pins_of(m, h.indices, name="handles")
-    L = mesh_laplacian(v, m.faces, kind=kind)
+    L = mesh_laplacian(v, m.faces, kind=weights)
     delta = L @ v
     system = PinnedSystem(L, pins.indices, name="handles", check_components=False)
     x = system.solve(pins.values(h.positions, v), delta)

@@ -4,7 +4,7 @@ scale with the surface, through per-vertex linearised similarity transforms."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Literal, get_args
 
 import numpy as np
 import scipy.sparse as sp
@@ -12,21 +12,16 @@ import scipy.sparse as sp
 from algorithms.core.errors import DegenerateInputError
 from algorithms.core.laplacian import mesh_laplacian, normalized_laplacian, uniform_weights
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import Mesh
+from algorithms.core.mesh import Mesh, read_mesh
+from algorithms.core.params import HandlesLike, MeshLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice
-from algorithms.deformation._common import (
-    check_spread,
-    handle_residual,
-    pins_of,
-    read_handles,
-    read_mesh,
-)
+from algorithms.deformation._common import check_spread, handle_residual, pins_of, read_handles
 
 __all__ = ["LaplacianEditingResult", "laplacian_editing", "WEIGHTS"]
 
+Weights = Literal["uniform", "cotangent"]
 #: The accepted values of ``weights``.
-WEIGHTS = ("uniform", "cotangent")
+WEIGHTS = get_args(Weights)
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,7 +76,7 @@ def _blocks(p: FloatArray) -> FloatArray:
     return a
 
 
-def editing_matrix(vertices: FloatArray, faces: IntArray, weights: str = "uniform"
+def editing_matrix(vertices: FloatArray, faces: IntArray, weights: Weights = "uniform"
                    ) -> sp.csr_array:
     r"""The sparse ``(d n) × (d n)`` matrix :math:`E` with :math:`(E x)_i = T_i(x)\,\delta_i
     - L(x)_i`, coordinates interleaved (row ``d i + c`` is coordinate ``c`` of vertex ``i``).
@@ -129,7 +124,8 @@ def editing_matrix(vertices: FloatArray, faces: IntArray, weights: str = "unifor
     return (t_part.tocsr() - l_part).tocsr()
 
 
-def laplacian_editing(mesh: Any, handles: Any, *, weights: str = "uniform"
+@validate_params
+def laplacian_editing(mesh: MeshLike, handles: HandlesLike, *, weights: Weights = "uniform"
                       ) -> LaplacianEditingResult:
     r"""Move the handles to their targets; every vertex's Laplacian coordinate follows the
     local rotation and scale of its neighbourhood (Laplacian surface editing).
@@ -154,14 +150,15 @@ def laplacian_editing(mesh: Any, handles: Any, *, weights: str = "uniform"
 
     Parameters
     ----------
-    mesh : Mesh or (vertices, faces)
-        ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces without zero-area ones.
-        Vertices no face uses stay where they are.
+    mesh : Mesh or {"vertices", "faces"}
+        The rest shape: ``(n, 2)`` or ``(n, 3)`` vertices and ``(m, 3)`` triangles of
+        0-based vertex indices, no zero-area ones. Vertices no face uses stay where they
+        are.
     handles : Handles or {"indices", "positions"}
-        Distinct vertex indices and their ``(p, d)`` targets. Every connected component
-        needs handles whose rest positions span a plane in 3-D (three not on a line) or a
-        line in 2-D (two distinct): fewer leave a global similarity transform about them
-        undetermined.
+        The vertices to move and their targets: ``(p,)`` distinct vertex indices and their
+        ``(p, d)`` positions. Every connected component needs handles whose rest positions
+        span a plane in 3-D (three not on a line) or a line in 2-D (two distinct): fewer
+        leave a global similarity transform about them undetermined.
     weights : {"uniform", "cotangent"}, default "uniform"
         The Laplacian: ``"uniform"`` gives :math:`\delta_i = p_i - \operatorname{mean}_j
         p_j` (the paper's), ``"cotangent"`` the cotangent-weighted average instead (both
@@ -182,9 +179,9 @@ def laplacian_editing(mesh: Any, handles: Any, *, weights: str = "uniform"
 
     Notes
     -----
-    The seed document's "affine deformation" (vertex transforms, point error:
-    :math:`\min \sum_i \lVert p'_i - (A_i p_i + b)\rVert^2 + \sum_{j} \lVert p'_j -
-    (A_i p_j + b)\rVert^2`) is the fit of :math:`T_i` above. As in the paper, the handles
+    The fit of :math:`T_i` is a per-vertex transform with a point error over the closed
+    one-ring, :math:`\min \lVert p'_i - (A_i p_i + b)\rVert^2 + \sum_{j} \lVert p'_j -
+    (A_i p_j + b)\rVert^2`, with :math:`A_i` a linearised similarity. As in the paper, the handles
     are hard constraints here (the paper's soft weighted version converges to this as the
     weights grow), and the linearisation means large rotations also scale the details
     (the paper's Fig. 5; ARAP does not, see :func:`~algorithms.deformation.arap`). With
@@ -207,14 +204,13 @@ def laplacian_editing(mesh: Any, handles: Any, *, weights: str = "uniform"
     """
     m = read_mesh(mesh)
     h = read_handles(handles, m)
-    kind = as_choice(weights, WEIGHTS, name="weights")
     v, f = m.vertices, m.faces
     n, d = v.shape
     pins = pins_of(m, h.indices, name="handles")
     check_spread(pins, v[h.indices], d - 1, name="handles",
                  what="three handles not on one line" if d == 3 else "two distinct handles",
                  why="fewer leave a similarity transform about them undetermined")
-    E = editing_matrix(v, f, kind)
+    E = editing_matrix(v, f, weights)
     normal = (E.T @ E).tocsr()
     pinned = (pins.indices[:, None] * d + np.arange(d)).ravel()
     try:

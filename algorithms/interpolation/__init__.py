@@ -2,12 +2,19 @@
 (the same points, or a mesh with the same faces) or to its image under a transform. A whole
 shape moves by one interpolated map (``affine``: polar decomposition; ``rigid``: a rigid
 motion or similarity), or every face by its own map with the vertices solved for per frame
-(``arap``: Alexa et al. 2000; ``poisson``: Xu et al. 2005)."""
+(``arap``: Alexa et al. 2000; ``poisson``: Xu et al. 2005).
+
+The readers of the inputs every method shares (:func:`read_shape`, :func:`read_pair`,
+:func:`read_times`, :func:`check_frame_count`) are public, so that a caller (the service)
+can refuse a request before running it with the methods' own checks and messages."""
 
 from algorithms.interpolation._common import (
     DEFAULT_TIMES,
     MAX_FRAMES,
+    Pair,
+    check_frame_count,
     read_pair,
+    read_shape,
     read_times,
     surface_triangles,
 )
@@ -19,7 +26,10 @@ from algorithms.interpolation.rigid import RigidInterpolationResult, rigid
 __all__ = [
     "DEFAULT_TIMES",
     "MAX_FRAMES",
+    "Pair",
+    "check_frame_count",
     "read_pair",
+    "read_shape",
     "read_times",
     "surface_triangles",
     "AffineInterpolationResult",

@@ -247,7 +247,7 @@ class FacePath:
     def decompose(pair: Pair) -> tuple[FloatArray, FloatArray]:
         """Per face, the shortest-arc rotation vector and the stretch of ``A_f = R_f S_f``
         (proper polar decomposition: ``R_f`` a rotation even for a flipped face, whose
-        ``S_f`` then has one negative eigenvalue, the seed's treatment "3b")."""
+        ``S_f`` then has one negative eigenvalue, as ``affine``'s ``reflection="flip"``)."""
         src = face_frames(pair.source, pair.faces)
         dst = face_frames(pair.target, pair.faces)
         a = np.swapaxes(np.linalg.solve(np.swapaxes(src, 1, 2), np.swapaxes(dst, 1, 2)), 1, 2)

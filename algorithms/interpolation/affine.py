@@ -5,15 +5,15 @@ linearly."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Literal, get_args
 
 import numpy as np
 
 from algorithms.alignment.affine import affine as fit_affine
 from algorithms.core.errors import DegenerateInputError
 from algorithms.core.linalg import batched_polar, det, homogeneous
+from algorithms.core.params import ArrayInput, ShapeLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice
 from algorithms.interpolation._common import (
     check_frame_count,
     edge_errors,
@@ -25,12 +25,14 @@ from algorithms.interpolation._common import (
     rotation_log,
 )
 
-__all__ = ["AffineInterpolationResult", "affine", "REFLECTIONS", "PIVOTS"]
+__all__ = ["AffineInterpolationResult", "affine", "Reflection", "Pivot", "REFLECTIONS",
+           "PIVOTS"]
 
-#: What to do with a map that mirrors (``det A < 0``).
-REFLECTIONS = ("refuse", "flip")
-#: The point the linear part acts about.
-PIVOTS = ("centroid", "origin")
+Reflection = Literal["refuse", "flip"]
+"""What to do with a map that mirrors (``det A < 0``)."""
+Pivot = Literal["centroid", "origin"]
+"""The point the linear part acts about."""
+REFLECTIONS, PIVOTS = get_args(Reflection), get_args(Pivot)
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,14 +85,15 @@ class AffineInterpolationResult:
     reflection: bool
 
 
+@validate_params
 def affine(
-    source: Any,
-    target: Any = None,
+    source: ShapeLike,
+    target: ShapeLike | None = None,
     *,
-    transform: Any = None,
-    times: Any = None,
-    reflection: str = "refuse",
-    pivot: str = "centroid",
+    transform: ArrayInput | None = None,
+    times: ArrayInput | None = None,
+    reflection: Reflection = "refuse",
+    pivot: Pivot = "centroid",
 ) -> AffineInterpolationResult:
     r"""Interpolate between ``source`` and its image under an affine map.
 
@@ -115,18 +118,23 @@ def affine(
         The shape at t = 0: a point set or a mesh ``{vertices, faces}`` (triangles, or
         tetrahedra in 3-D); ``d`` = 2 or 3.
     target : (n, d) float array or mesh, optional
-        The shape at t = 1, point ``i`` for source point ``i`` (a mesh must have the
-        source's faces); at least ``d + 1`` affinely independent source points.
+        The shape at t = 1, point ``i`` for source point ``i``: points, or a mesh with
+        exactly the source's faces (the same connectivity); the fitted map needs at least
+        ``d + 1`` affinely independent source points. Give this or ``transform``.
     transform : (d+1, d+1) float array, optional
-        A homogeneous affine matrix instead of ``target``.
+        A homogeneous affine matrix ``[[A, b], [0, 1]]`` applied to the source instead of
+        ``target``.
     times : (T,) float array, optional
-        Strictly increasing times in [0, 1]; 11 evenly spaced when omitted.
+        Strictly increasing times in [0, 1] (no extrapolation), one frame each; 11 evenly
+        spaced (0, 0.1, ..., 1) when omitted.
     reflection : {"refuse", "flip"}, default "refuse"
-        For a map that mirrors (:math:`\det A < 0`): refuse it, or follow the seed (see
-        Notes) and pass through a singular map once.
+        For a map that mirrors (:math:`\det A < 0`), which no path of invertible maps
+        reaches: ``"refuse"`` raises an error; ``"flip"`` takes a rotation and a stretch
+        with one negative eigenvalue, so the path flattens the shape once on the way.
     pivot : {"centroid", "origin"}, default "centroid"
-        The point :math:`c` the linear part acts about: the source's centroid (which then
-        moves on a straight line) or the origin (the seed's :math:`b(t) = t b`).
+        The point :math:`c` the linear part acts about: ``"centroid"`` the source's
+        centroid, which then moves on a straight line; ``"origin"`` the origin, so that the
+        translation is interpolated as :math:`t b`.
 
     Returns
     -------
@@ -146,27 +154,28 @@ def affine(
 
     Notes
     -----
-    **Why polar.** The seed lists three factorizations (eigen-, singular value and polar
-    decomposition) and keeps the polar one, "the best looking": the rotation and the
-    stretch are interpolated separately, so a pure rotation stays rigid along the path
-    and :math:`\det A(t) = \det((1 - t) I + t S) = \prod_i (1 - t + t\lambda_i) > 0` for
-    :math:`t \in [0, 1]` whenever :math:`S` is positive definite: the volume never
-    collapses.
+    **Why polar.** Of the factorizations of :math:`A` one could interpolate (eigen-,
+    singular value and polar decomposition) the polar one looks best (Shoemake & Duff): the
+    rotation and the stretch are interpolated separately, so a pure rotation stays rigid
+    along the path and :math:`\det A(t) = \det((1 - t) I + t S) = \prod_i (1 - t +
+    t\lambda_i) > 0` for :math:`t \in [0, 1]` whenever :math:`S` is positive definite: the
+    volume never collapses.
 
     **Reflections.** No continuous path of invertible maps joins the identity
     (:math:`\det = 1`) to a mirror (:math:`\det < 0`): the determinant must cross zero.
-    By default such a map is refused. ``reflection="flip"`` applies the seed's treatment
-    (its "3b"): :math:`A = Q P` with :math:`\det Q = -1` is rewritten :math:`R = Q D`,
+    By default such a map is refused. ``reflection="flip"`` keeps a rotation in the
+    factors: :math:`A = Q P` with :math:`\det Q = -1` is rewritten :math:`R = Q D`,
     :math:`S = D P`, :math:`D = \operatorname{diag}(1, \dots, 1, -1)` along the singular
     vector of the smallest singular value, so :math:`R` is a rotation and :math:`S` has one
     negative eigenvalue :math:`-\sigma_d`; the path then flattens the shape along that
-    direction exactly once, at :math:`t = 1 / (1 + \sigma_d)` (``det`` reports it). The
-    seed's simpler "3a" (negate both factors) works in odd dimensions only and flattens
-    every direction at once, so it is not offered.
+    direction exactly once, at :math:`t = 1 / (1 + \sigma_d)` (``det`` reports it).
+    Negating both factors instead (:math:`R = -Q`, :math:`S = -P`) is simpler but gives a
+    rotation in odd dimensions only, and its path flattens every direction at once, so it
+    is not offered.
 
-    **Pivot.** The seed interpolates the translation as :math:`t b` about the origin; a
-    shape far from the origin then swings around it. The default pivot is the source's
-    centroid; ``pivot="origin"`` gives the seed's path.
+    **Pivot.** Interpolating the translation as :math:`t b` about the origin makes a shape
+    far from the origin swing around it. The default pivot is the source's centroid;
+    ``pivot="origin"`` gives the path about the origin.
 
     **Peer.** The rotation path equals ``scipy.spatial.transform.Slerp`` between the
     identity and :math:`R` (tested).
@@ -189,8 +198,6 @@ def affine(
     >>> round(res.angle, 12), res.det.round(12).tolist()
     (1.570796326795, [1.0, 1.0, 1.0])
     """
-    as_choice(reflection, REFLECTIONS, name="reflection")
-    as_choice(pivot, PIVOTS, name="pivot")
     pair = read_pair(source, target, transform)
     t = read_times(times)
     check_frame_count(pair.n, pair.dim, t)

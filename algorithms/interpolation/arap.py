@@ -5,10 +5,11 @@ least-squares sense."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 
+from algorithms.core.params import ArrayInput, Ge, ShapeLike, validate_params
 from algorithms.core.progress import Progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.interpolation._common import (
@@ -56,13 +57,14 @@ class ArapInterpolationResult:
     max_angle: float
 
 
+@validate_params
 def arap(
-    source: Any,
-    target: Any = None,
+    source: ShapeLike,
+    target: ShapeLike | None = None,
     *,
-    transform: Any = None,
-    times: Any = None,
-    anchor: int = 0,
+    transform: ArrayInput | None = None,
+    times: ArrayInput | None = None,
+    anchor: Annotated[int, Ge(0)] = 0,
     progress: Progress | None = None,
 ) -> ArapInterpolationResult:
     r"""Interpolate between two meshes with the same connectivity as rigidly as possible.
@@ -84,18 +86,23 @@ def arap(
 
     Parameters
     ----------
-    source : mesh
-        ``{vertices, faces}``: triangles in 2-D or 3-D, or tetrahedra ``(m, 4)`` in 3-D;
-        no zero-area (zero-volume) faces.
-    target : mesh or (n, d) float array, optional
-        The mesh at t = 1 with the source's faces (or its vertices alone).
+    source : Mesh or {"vertices", "faces"}
+        The mesh at t = 0: ``(n, d)`` vertices and ``(m, 3)`` triangles (``d`` = 2 or 3)
+        or, in 3-D, ``(m, 4)`` tetrahedra; no zero-area (zero-volume) faces. A point set
+        is refused: the method interpolates per face.
+    target : (n, d) float array or mesh, optional
+        The mesh at t = 1 with exactly the source's faces (the same connectivity), or its
+        vertices alone. Give this or ``transform``.
     transform : (d+1, d+1) float array, optional
-        A homogeneous affine matrix applied to the source instead of ``target``.
+        A homogeneous affine matrix ``[[A, b], [0, 1]]`` applied to the source instead of
+        ``target``.
     times : (T,) float array, optional
-        Strictly increasing times in [0, 1]; 11 evenly spaced when omitted.
+        Strictly increasing times in [0, 1] (no extrapolation), one frame each; 11 evenly
+        spaced (0, 0.1, ..., 1) when omitted.
     anchor : int, default 0
-        The vertex that moves on a straight line; every other connected component holds
-        its lowest-numbered vertex on its line.
+        The vertex that moves on a straight line from its source to its target position
+        (it fixes the free translation); every other connected component holds its
+        lowest-numbered vertex on its line.
     progress : callable, optional
         ``progress(done, total, message)``, called after each frame.
 
@@ -117,16 +124,16 @@ def arap(
     Notes
     -----
     **Objective.** Alexa et al. sum the squared Frobenius distances unweighted, one term
-    per triangle, as the seed does (":math:`\min \sum \lVert A_c - A_c^{(t)}\rVert^2`
-    subject to shared vertices"); so does this function (use
-    :func:`~algorithms.interpolation.poisson` for the area-weighted objective, the
-    cotangent Laplacian). The free translation is fixed by one vertex on its straight path
-    as in the paper; the seed's alternative, pins that follow the global affine path, only
-    changes a translation per frame when there is one pin.
+    per triangle, :math:`\min \sum_f \lVert B_f(X) - A_f(t)\rVert^2` subject to shared
+    vertices; so does this function (use :func:`~algorithms.interpolation.poisson` for the
+    area-weighted objective, the cotangent Laplacian). The free translation is fixed by
+    one vertex on its straight path as in the paper; holding that vertex on the path of
+    the global affine map instead would only move each frame by a translation.
 
     **Reflections.** A face whose map mirrors (:math:`\det A_f < 0`, a face turned over in
-    the target) gets the seed's "3b" factors: a rotation and a stretch with one negative
-    eigenvalue, which passes through zero once; ``min_det`` shows where faces flatten.
+    the target) gets the factors of :func:`~algorithms.interpolation.affine`'s
+    ``reflection="flip"``: a rotation and a stretch with one negative eigenvalue, which
+    passes through zero once; ``min_det`` shows where faces flatten.
 
     **Limits.** Each face takes its own shortest arc, so a part that turns by more than
     half a turn relative to the rest tears where neighbouring faces choose opposite

@@ -5,11 +5,12 @@ recovered by one Poisson solve per frame with a prefactored cotangent Laplacian.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 
 from algorithms.core.laplacian import cotangent_laplacian
+from algorithms.core.params import ArrayInput, Ge, ShapeLike, validate_params
 from algorithms.core.progress import Progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.interpolation._common import (
@@ -63,13 +64,14 @@ class PoissonInterpolationResult:
     max_angle: float
 
 
+@validate_params
 def poisson(
-    source: Any,
-    target: Any = None,
+    source: ShapeLike,
+    target: ShapeLike | None = None,
     *,
-    transform: Any = None,
-    times: Any = None,
-    anchor: int = 0,
+    transform: ArrayInput | None = None,
+    times: ArrayInput | None = None,
+    anchor: Annotated[int, Ge(0)] = 0,
     progress: Progress | None = None,
 ) -> PoissonInterpolationResult:
     r"""Interpolate between two meshes with the same connectivity by solving a Poisson
@@ -99,18 +101,23 @@ def poisson(
 
     Parameters
     ----------
-    source : mesh
-        ``{vertices, faces}``: triangles in 2-D or 3-D, or tetrahedra ``(m, 4)`` in 3-D;
-        no zero-area (zero-volume) faces.
-    target : mesh or (n, d) float array, optional
-        The mesh at t = 1 with the source's faces (or its vertices alone).
+    source : Mesh or {"vertices", "faces"}
+        The mesh at t = 0: ``(n, d)`` vertices and ``(m, 3)`` triangles (``d`` = 2 or 3)
+        or, in 3-D, ``(m, 4)`` tetrahedra; no zero-area (zero-volume) faces. A point set
+        is refused: the method interpolates per face.
+    target : (n, d) float array or mesh, optional
+        The mesh at t = 1 with exactly the source's faces (the same connectivity), or its
+        vertices alone. Give this or ``transform``.
     transform : (d+1, d+1) float array, optional
-        A homogeneous affine matrix applied to the source instead of ``target``.
+        A homogeneous affine matrix ``[[A, b], [0, 1]]`` applied to the source instead of
+        ``target``.
     times : (T,) float array, optional
-        Strictly increasing times in [0, 1]; 11 evenly spaced when omitted.
+        Strictly increasing times in [0, 1] (no extrapolation), one frame each; 11 evenly
+        spaced (0, 0.1, ..., 1) when omitted.
     anchor : int, default 0
-        The vertex that moves on a straight line; every other connected component holds
-        its lowest-numbered vertex on its line.
+        The vertex that moves on a straight line from its source to its target position
+        (it fixes the free translation); every other connected component holds its
+        lowest-numbered vertex on its line.
     progress : callable, optional
         ``progress(done, total, message)``, called after each frame.
 
@@ -131,19 +138,19 @@ def poisson(
 
     Notes
     -----
-    **Seed and ALGORITHMS.md.** Both describe this method as interpolating the Laplacian
-    coordinates linearly, :math:`\Delta p^{(t)} = \operatorname{lerp}(\Delta p^{(0)},
-    \Delta p^{(1)})`, and solving :math:`L x = \Delta p^{(t)}`. The seed itself notes that
-    the Laplacian and the interpolation are both linear and commute; with pins on their
-    straight paths the solution is then exactly the linear blend of the vertex positions,
-    which shrinks a bending bar. Xu et al. interpolate the *gradient field* with its
-    rotations (slerp) and stretches (lerp) and only then take the divergence; that is what
-    is implemented, and it is what keeps the bar's length (tested against the linear
+    **Gradients, not Laplacian coordinates.** Poisson interpolation is sometimes described
+    as interpolating the Laplacian coordinates linearly, :math:`\Delta p^{(t)} =
+    \operatorname{lerp}(\Delta p^{(0)}, \Delta p^{(1)})`, and solving :math:`L x = \Delta
+    p^{(t)}`. But the Laplacian and the interpolation are both linear and commute: with pins
+    on their straight paths the solution is then exactly the linear blend of the vertex
+    positions, which shrinks a bending bar. Xu et al. interpolate the *gradient field* with
+    its rotations (slerp) and stretches (lerp) and only then take the divergence; that is
+    what is implemented, and it is what keeps the bar's length (tested against the linear
     blend).
 
-    **Reflections.** A face turned over in the target gets the seed's "3b" factors (a
-    rotation and a stretch with one negative eigenvalue); ``min_det`` shows where faces
-    flatten.
+    **Reflections.** A face turned over in the target gets the factors of
+    :func:`~algorithms.interpolation.affine`'s ``reflection="flip"`` (a rotation and a
+    stretch with one negative eigenvalue); ``min_det`` shows where faces flatten.
 
     References
     ----------

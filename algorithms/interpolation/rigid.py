@@ -4,7 +4,6 @@ arc, the pivot moves on a straight line and the scale changes geometrically."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -12,8 +11,8 @@ from algorithms.alignment.rigid import rigid as fit_rigid
 from algorithms.alignment.similarity import similarity as fit_similarity
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.linalg import det, homogeneous
+from algorithms.core.params import ArrayInput, ShapeLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_bool, as_choice
 from algorithms.interpolation._common import (
     check_frame_count,
     edge_errors,
@@ -24,7 +23,7 @@ from algorithms.interpolation._common import (
     rotation_exp,
     rotation_log,
 )
-from algorithms.interpolation.affine import PIVOTS
+from algorithms.interpolation.affine import Pivot
 
 __all__ = ["RigidInterpolationResult", "rigid", "split_similarity", "SIMILARITY_RTOL"]
 
@@ -101,14 +100,15 @@ def split_similarity(a: FloatArray, scale: bool) -> tuple[FloatArray, float]:
     return a / s, s
 
 
+@validate_params
 def rigid(
-    source: Any,
-    target: Any = None,
+    source: ShapeLike,
+    target: ShapeLike | None = None,
     *,
-    transform: Any = None,
-    times: Any = None,
+    transform: ArrayInput | None = None,
+    times: ArrayInput | None = None,
     scale: bool = False,
-    pivot: str = "centroid",
+    pivot: Pivot = "centroid",
 ) -> RigidInterpolationResult:
     r"""Interpolate the rigid motion (or similarity) that takes ``source`` to ``target``.
 
@@ -130,20 +130,23 @@ def rigid(
     Parameters
     ----------
     source : (n, d) float array or mesh
-        The shape at t = 0: a point set or a mesh ``{vertices, faces}``; ``d`` = 2 or 3,
-        at least ``d`` points not all on one line (3-D) or one point (2-D).
+        The shape at t = 0: a point set or a mesh ``{vertices, faces}`` (triangles, or
+        tetrahedra in 3-D); ``d`` = 2 or 3. Fitting a target needs at least ``d`` points,
+        not all on one line in 3-D, not all at one point in 2-D.
     target : (n, d) float array or mesh, optional
-        The shape at t = 1, point ``i`` for source point ``i`` (a mesh must have the
-        source's faces).
+        The shape at t = 1, point ``i`` for source point ``i``: points, or a mesh with
+        exactly the source's faces (the same connectivity). Give this or ``transform``.
     transform : (d+1, d+1) float array, optional
-        A homogeneous rigid motion (or similarity with ``scale=True``) instead of
-        ``target``.
+        A homogeneous rigid motion ``[[R, b], [0, 1]]`` (with ``scale=True`` a similarity
+        ``[[s R, b], [0, 1]]``) applied to the source instead of ``target``.
     times : (T,) float array, optional
-        Strictly increasing times in [0, 1]; 11 evenly spaced when omitted.
+        Strictly increasing times in [0, 1] (no extrapolation), one frame each; 11 evenly
+        spaced (0, 0.1, ..., 1) when omitted.
     scale : bool, default False
-        Fit and interpolate a uniform scale too.
+        Fit and interpolate a uniform scale too, geometrically (:math:`s^t`).
     pivot : {"centroid", "origin"}, default "centroid"
-        The point :math:`c` the rotation turns about: the source's centroid, or the origin.
+        The point :math:`c` the rotation turns about: ``"centroid"`` the source's centroid,
+        which then moves on a straight line; ``"origin"`` the origin.
 
     Returns
     -------
@@ -168,10 +171,9 @@ def rigid(
     ``scipy.spatial.transform.Slerp`` between the identity and :math:`R` (tested). A
     rotation by exactly :math:`\pi` has two shortest arcs; one of them is taken.
 
-    The seed's "rigid homotopy" (and ALGORITHMS.md §7) names a rotation-aware Laplacian
-    interpolation after the volumetric graph Laplacian; for per-face rotations use
-    :func:`~algorithms.interpolation.arap` or :func:`~algorithms.interpolation.poisson`;
-    this function moves the whole shape as one rigid body.
+    This function moves the whole shape as one rigid body; for a path that turns each
+    face by its own rotation use :func:`~algorithms.interpolation.arap` or
+    :func:`~algorithms.interpolation.poisson`.
 
     References
     ----------
@@ -189,8 +191,7 @@ def rigid(
     >>> round(res.angle, 12), np.round(res.frames[1].mean(axis=0), 12).tolist()
     (1.570796326795, [2.5, 1.0])
     """
-    as_choice(pivot, PIVOTS, name="pivot")
-    with_scale = as_bool(scale, name="scale")
+    with_scale = scale
     pair = read_pair(source, target, transform)
     t = read_times(times)
     check_frame_count(pair.n, pair.dim, t)

@@ -3,41 +3,31 @@ frames of the path between them out)."""
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 import numpy as np
-from pydantic import (
-    Field,
-    PlainSerializer,
-    PlainValidator,
-    ValidationInfo,
-    WithJsonSchema,
-    model_validator,
-)
+from pydantic import PlainSerializer, PlainValidator, ValidationInfo, WithJsonSchema
 
-from algorithms.alignment.affine import affine as fit_affine
-from algorithms.alignment.rigid import rigid as fit_rigid
-from algorithms.alignment.similarity import similarity as fit_similarity
+from algorithms.alignment import affine as fit_affine
+from algorithms.alignment import rigid as fit_rigid
+from algorithms.alignment import similarity as fit_similarity
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.mesh import Mesh
 from algorithms.interpolation import (
     MAX_FRAMES,
-    AffineInterpolationResult,
-    ArapInterpolationResult,
-    PoissonInterpolationResult,
-    RigidInterpolationResult,
+    Pair,
     affine,
     arap,
+    check_frame_count,
     poisson,
     read_pair,
+    read_shape,
     read_times,
     rigid,
 )
-from algorithms.interpolation._common import check_frame_count, read_shape
 from algorithms.interpolation.rigid import split_similarity
-from service.catalog.base import Params
-from service.catalog.inputs import Points, points_schema
 from service import scenes
+from service.catalog.inputs import Points, points_schema
 from service.catalog.registry import Process, registry
 
 # A 4 × 1 strip in the plane (ten vertices, eight triangles) ...
@@ -58,10 +48,7 @@ _QUARTER = [[0.0, -1.0, 2.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
 _TIMES = [0.0, 0.25, 0.5, 0.75, 1.0]
 
 
-def _mesh_schema(description: str, *, tets: bool) -> dict[str, Any]:
-    per_face = 4 if tets else 3
-    what = ("3 vertex indices per triangle or, in 3-D, 4 per tetrahedron" if tets
-            else "3 vertex indices per triangle")
+def _mesh_schema(description: str) -> dict[str, Any]:
     return {
         "type": "object",
         "description": description,
@@ -70,10 +57,10 @@ def _mesh_schema(description: str, *, tets: bool) -> dict[str, Any]:
                          "coordinates per vertex.",
                          "items": {"type": "array", "items": {"type": "number"},
                                    "minItems": 2, "maxItems": 3}},
-            "faces": {"type": "array", "minItems": 1, "description": f"One row of {what} "
-                      "(0-based).",
+            "faces": {"type": "array", "minItems": 1, "description": "One row of 3 vertex "
+                      "indices per triangle or, in 3-D, 4 per tetrahedron (0-based).",
                       "items": {"type": "array", "items": {"type": "integer", "minimum": 0},
-                                "minItems": 3, "maxItems": per_face}},
+                                "minItems": 3, "maxItems": 4}},
         },
         "required": ["vertices", "faces"],
         "additionalProperties": False,
@@ -121,7 +108,7 @@ ShapeInput = Annotated[
     PlainValidator(_validate_shape),
     PlainSerializer(_shape_json),
     WithJsonSchema({"anyOf": [_POINTS, _mesh_schema(
-        "A mesh: vertices and triangles (or tetrahedra in 3-D).", tets=True)],
+        "A mesh: vertices and triangles (or tetrahedra in 3-D).")],
         "description": "A point set (n, d) or a mesh {vertices, faces}."}),
 ]
 """A point set or a mesh (triangles, or tetrahedra in 3-D)."""
@@ -131,7 +118,7 @@ MeshShapeInput = Annotated[
     PlainValidator(_validate_mesh),
     PlainSerializer(_shape_json),
     WithJsonSchema({"anyOf": [_mesh_schema(
-        "A mesh: vertices and triangles (or tetrahedra in 3-D).", tets=True), _POINTS],
+        "A mesh: vertices and triangles (or tetrahedra in 3-D)."), _POINTS],
         "description": "A mesh {vertices, faces} (the target may also be its vertices "
         "alone)."}),
 ]
@@ -147,101 +134,52 @@ TimesInput = Annotated[
 ]
 """Strictly increasing times in [0, 1]."""
 
-_SOURCE = ("The shape at t = 0: a point set (n, d) or a mesh {vertices: (n, d), faces: "
-           "(m, 3) triangles or, in 3-D, (m, 4) tetrahedra}; d = 2 or 3.")
-_SOURCE_MESH = ("The mesh at t = 0: {vertices: (n, d), faces: (m, 3) triangles (d = 2 or 3) "
-                "or (m, 4) tetrahedra (d = 3)}, no zero-area faces.")
-_TARGET = ("The shape at t = 1, point i for source point i: points (n, d), or a mesh with "
-           "exactly the source's faces (same connectivity). Give this or transform.")
-_TRANSFORM = ("A homogeneous (d+1) × (d+1) matrix [[A, b], [0, 1]] applied to the source "
-              "instead of a target.")
-_TIMES_DESC = ("Strictly increasing times in [0, 1] (no extrapolation), one frame each; "
-               "11 evenly spaced (0, 0.1, ..., 1) when omitted.")
-_ANCHOR = ("The vertex that moves on a straight line from its source to its target "
-           "position (fixes the free translation); other connected components use their "
-           "lowest-numbered vertex.")
+_SHAPES = {"source": ShapeInput, "target": ShapeInput | None, "transform": Points | None,
+           "times": TimesInput | None}
+_MESHES = {**_SHAPES, "source": MeshShapeInput, "target": MeshShapeInput | None}
 
 
-class _InterpolationParams(Params):
-    source: ShapeInput = Field(description=_SOURCE, examples=[_SQUARE])
-    target: ShapeInput | None = Field(None, description=_TARGET)
-    transform: Points | None = Field(None, description=_TRANSFORM, examples=[_AFFINE])
-    times: TimesInput | None = Field(None, description=_TIMES_DESC, examples=[_TIMES])
-
-    @model_validator(mode="after")
-    def _end_shape(self) -> _InterpolationParams:
-        pair = read_pair(self.source, self.target, self.transform)
-        times = self.times if self.times is not None else read_times(None)
-        check_frame_count(pair.n, pair.dim, times)
-        self._check(pair)
-        return self
-
-    def _check(self, pair: Any) -> None:
-        """Checks of one process against the shapes."""
+def _pair(p: Any) -> Pair:
+    """The end shape (target or transform) fits the source; the frames fit the output cap."""
+    pair = read_pair(p.source, p.target, p.transform)
+    check_frame_count(pair.n, pair.dim, p.times if p.times is not None else read_times(None))
+    return pair
 
 
-class AffineParams(_InterpolationParams):
-    reflection: Literal["refuse", "flip"] = Field(
-        "refuse", description="A map that mirrors (det A < 0) cannot be reached without "
-        "flattening the shape: refuse it, or flip (the seed's treatment: a rotation and a "
-        "stretch with one negative eigenvalue; the path flattens once).")
-    pivot: Literal["centroid", "origin"] = Field(
-        "centroid", description="The point the linear part acts about: the source's "
-        "centroid (which moves on a straight line) or the origin (b(t) = t b).")
-
-    def _check(self, pair: Any) -> None:
-        d = pair.dim
-        if pair.transform is not None:
-            a, field = pair.transform[:d, :d], "transform"
-        else:  # the fit the job would make: a flat source is refused now (422)
-            a, field = fit_affine(pair.source, pair.target).linear, "target"
-        if self.reflection == "refuse" and np.linalg.det(a) < 0:
-            raise InvalidInputError(
-                f"Expected the map to `{field}` to keep orientation (det A > 0), got a "
-                f"reflection; pass reflection='flip' to pass through a flattened shape once.",
-                field=field)
+def _keeps_orientation(p: Any) -> None:
+    """As _pair, and the map (given, or the fit the job would make) mirrors only with flip."""
+    pair = _pair(p)
+    d = pair.dim
+    if pair.transform is not None:
+        a, field = pair.transform[:d, :d], "transform"
+    else:  # the fit the job would make: a flat source is refused now (422)
+        a, field = fit_affine(pair.source, pair.target).linear, "target"
+    if p.reflection == "refuse" and np.linalg.det(a) < 0:
+        raise InvalidInputError(
+            f"Expected the map to `{field}` to keep orientation (det A > 0), got a "
+            f"reflection; pass reflection='flip' to pass through a flattened shape once.",
+            field=field)
 
 
-class RigidParams(_InterpolationParams):
-    transform: Points | None = Field(None, description="A homogeneous (d+1) × (d+1) rigid "
-                                     "motion [[R, b], [0, 1]] (a similarity [[sR, b], [0, 1]] "
-                                     "with scale=true) instead of a target.",
-                                     examples=[_QUARTER])
-    scale: bool = Field(False, description="Fit and interpolate a uniform scale too "
-                        "(geometrically: s^t).")
-    pivot: Literal["centroid", "origin"] = Field(
-        "centroid", description="The point the rotation turns about: the source's centroid "
-        "(which moves on a straight line) or the origin.")
-
-    def _check(self, pair: Any) -> None:
-        d = pair.dim
-        if pair.transform is not None:
-            split_similarity(pair.transform[:d, :d], self.scale)
-        elif self.scale:  # the fit the job would make: degenerate sources refused now
-            fit_similarity(pair.source, pair.target)
-        else:
-            fit_rigid(pair.source, pair.target)
+def _is_rigid(p: Any) -> None:
+    """As _pair, and the transform is a rigid motion (a similarity with scale), or fits one."""
+    pair = _pair(p)
+    d = pair.dim
+    if pair.transform is not None:
+        split_similarity(pair.transform[:d, :d], p.scale)
+    elif p.scale:  # the fit the job would make: degenerate sources refused now
+        fit_similarity(pair.source, pair.target)
+    else:
+        fit_rigid(pair.source, pair.target)
 
 
-class _MeshInterpolationParams(_InterpolationParams):
-    source: MeshShapeInput = Field(description=_SOURCE_MESH, examples=[_STRIP])
-    target: MeshShapeInput | None = Field(None, description=_TARGET, examples=[_BENT])
-    transform: Points | None = Field(None, description=_TRANSFORM)
-    anchor: int = Field(0, ge=0, description=_ANCHOR)
-
-    def _check(self, pair: Any) -> None:
-        if self.anchor >= pair.n:
-            raise InvalidInputError(
-                f"Expected `anchor` to be a vertex index of `source` (below {pair.n}), got "
-                f"{self.anchor}.", field="anchor")
-
-
-class ArapParams(_MeshInterpolationParams):
-    pass
-
-
-class PoissonParams(_MeshInterpolationParams):
-    pass
+def _anchored(p: Any) -> None:
+    """As _pair, and the anchor is a vertex of the source."""
+    pair = _pair(p)
+    if p.anchor >= pair.n:
+        raise InvalidInputError(
+            f"Expected `anchor` to be a vertex index of `source` (below {pair.n}), got "
+            f"{p.anchor}.", field="anchor")
 
 
 registry.add(Process(
@@ -252,8 +190,9 @@ registry.add(Process(
     "and the translation move linearly, so det A(t) > 0 all along the path. The map is "
     "given or fitted to the target (its residual blended in, so t = 1 is the target).",
     function=affine,
-    params=AffineParams,
-    result=AffineInterpolationResult,
+    examples={"source": _SQUARE, "transform": _AFFINE, "times": _TIMES},
+    inputs=_SHAPES,
+    check=_keeps_orientation,
     reference="Shoemake, K., Duff, T. (1992). Matrix animation and polar decomposition. "
     "Graphics Interface '92, 258–264.",
     fast_path=True,
@@ -268,8 +207,9 @@ registry.add(Process(
     "takes the one given, and moves the shape along it: rotation by slerp (shortest arc), "
     "pivot on a straight line, scale geometric (s^t).",
     function=rigid,
-    params=RigidParams,
-    result=RigidInterpolationResult,
+    examples={"source": _SQUARE, "transform": _QUARTER, "times": _TIMES},
+    inputs=_SHAPES,
+    check=_is_rigid,
     reference="Shoemake, K. (1985). Animating rotation with quaternion curves. SIGGRAPH "
     "1985, 245–254.",
     fast_path=True,
@@ -284,8 +224,9 @@ registry.add(Process(
     "vertices of each frame solve min Σ_f ‖B_f(x) − A_f(t)‖² with one vertex on its "
     "straight path (one factored sparse system, one solve per frame).",
     function=arap,
-    params=ArapParams,
-    result=ArapInterpolationResult,
+    examples={"source": _STRIP, "target": _BENT, "times": _TIMES},
+    inputs=_MESHES,
+    check=_anchored,
     reference="Alexa, M., Cohen-Or, D., Levin, D. (2000). As-rigid-as-possible shape "
     "interpolation. SIGGRAPH 2000, 157–164.",
     long=True,
@@ -300,8 +241,9 @@ registry.add(Process(
     "mesh then slerped, stretches lerped) and each frame recovered by a Poisson solve "
     "L x = div(gradients) with the prefactored cotangent Laplacian.",
     function=poisson,
-    params=PoissonParams,
-    result=PoissonInterpolationResult,
+    examples={"source": _STRIP, "target": _BENT, "times": _TIMES},
+    inputs=_MESHES,
+    check=_anchored,
     reference="Xu, D., Zhang, H., Wang, Q., Bao, H. (2005). Poisson shape interpolation. "
     "ACM Symposium on Solid and Physical Modeling 2005, 267–274.",
     long=True,

@@ -4,7 +4,9 @@ energy never increasing, rigid motions free), agreement with libigl's ARAP."""
 from __future__ import annotations
 
 import dataclasses
+import re
 import warnings
+from typing import get_args
 
 import igl
 import numpy as np
@@ -13,7 +15,9 @@ from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, g
 
 from algorithms.core import Cancelled, DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import Mesh
+from algorithms.core.linsolve import BACKENDS
 from algorithms.deformation import ArapResult, ArapSolver, arap
+from algorithms.deformation.arap import Backend
 
 
 def bend_tube():
@@ -274,7 +278,7 @@ def two_triangles():
 ])
 def test_invalid_inputs(kwargs, handles, error, field, fragment):
     v, f = two_triangles()
-    with pytest.raises(error, match=None) as info:
+    with pytest.raises(error, match=re.escape(fragment)) as info:
         arap((v, f), handles, **kwargs)
     assert info.value.field == field
     assert fragment in info.value.message
@@ -297,10 +301,19 @@ def test_solver_input_errors():
     with pytest.raises(DegenerateInputError, match="handle_indices") as info:
         ArapSolver((v, f), [0])
     assert info.value.field == "handle_indices"
+    for kwargs, field, fragment in (({"energy": "rims"}, "energy", "'spokes'"),
+                                    ({"backend": "mkl"}, "backend", "'auto'")):
+        with pytest.raises(InvalidInputError, match=fragment) as info:
+            ArapSolver((v, f), [0, 3], **kwargs)
+        assert info.value.field == field
+    assert get_args(Backend)[1:] == BACKENDS       # "auto" or any of the solver's backends
     solver = ArapSolver((v, f), [0, 3])
-    with pytest.raises(InvalidInputError) as info:
+    with pytest.raises(InvalidInputError, match="one row per handle") as info:
         solver.solve([[0, 0, 0]])
     assert info.value.field == "handle_positions"
+    with pytest.raises(InvalidInputError, match=">= 1") as info:
+        solver.solve(v[[0, 3]], max_iterations=0)
+    assert info.value.field == "max_iterations"
     with pytest.raises(InvalidInputError) as info:
         solver.solve(v[[0, 3]], initial=v[:4])
     assert info.value.field == "initial"

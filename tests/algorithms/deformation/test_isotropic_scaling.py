@@ -1,5 +1,5 @@
 """Tests for deformation.isotropic_scaling: fixed points (rest, translation, uniform
-scaling), the closed-form scale step, the seed's previous-iterate length ratios."""
+scaling), the closed-form scale step, the length ratios of the previous iterate."""
 
 from __future__ import annotations
 
@@ -54,8 +54,8 @@ def test_scales_are_the_closed_form_of_the_result():
 
 
 def test_each_step_uses_the_previous_lengths():
-    # One more iteration from the result changes nothing (a fixed point of the seed's
-    # scheme), and the energy reported is the objective of the returned vertices.
+    # One more iteration from the result changes nothing (a fixed point of the
+    # previous-iterate scheme), and the energy reported is the objective of the returned vertices.
     v, f = grid(5, 4, jitter=0.1)
     idx = np.array([0, 4, 15, 19])
     pos = v[idx] * [[1.0, 1.0]] + [[0, 0], [1, 0], [0, 0.5], [1, 0.5]]
@@ -98,3 +98,7 @@ def test_errors():
     with pytest.raises(InvalidInputError, match=">= 0") as info:
         isotropic_scaling((v, f), {"indices": [0], "positions": [[0, 0]]}, regularization=-1)
     assert info.value.field == "regularization"
+    for name, bad, fragment in (("max_iterations", 0, ">= 1"), ("tolerance", -1.0, ">= 0")):
+        with pytest.raises(InvalidInputError, match=fragment) as info:
+            isotropic_scaling((v, f), {"indices": [0], "positions": [[0, 0]]}, **{name: bad})
+        assert info.value.field == name

@@ -1,7 +1,8 @@
 """interpolation.affine: polar decomposition, slerp of R, lerp of S and the translation.
 
 Hand-computed turns, endpoints reproduced, det > 0 all along the path, the shortest arc
-(against scipy's Slerp), the seed's reflection treatment, and every error branch."""
+(against scipy's Slerp), reflections passed through a flattened shape, and every error
+branch."""
 
 from __future__ import annotations
 
@@ -138,7 +139,7 @@ def test_reflection_refused_by_default_naming_the_input() -> None:
     assert info.value.field == "target"
 
 
-def test_reflection_flip_follows_the_seed_and_flattens_once() -> None:
+def test_reflection_flip_flattens_once() -> None:
     a = np.array([[2.0, 0.0], [0.0, -0.5]])        # σ = (2, 0.5), det < 0
     res = affine(SQUARE, transform=_homogeneous(a, np.zeros(2)), reflection="flip",
                  times=[0.0, 0.5, 1 / 1.5, 0.9, 1.0], pivot="origin")

@@ -1,6 +1,6 @@
 """interpolation.poisson (Xu et al. 2005): endpoints reproduced, bars bent by half a turn
 and beyond keep their edge lengths (rotations unwrapped across the mesh) where the linear
-blend and the seed's linear Laplacian-coordinate interpolation shrink them, and tetrahedra."""
+blend and the linear interpolation of Laplacian coordinates shrink them, and tetrahedra."""
 
 from __future__ import annotations
 
@@ -12,7 +12,6 @@ from algorithms.core.laplacian import cotangent_laplacian
 from algorithms.core.linsolve import PinnedSystem
 from algorithms.interpolation import poisson
 from algorithms.interpolation._common import edge_errors, edges_of
-from algorithms.interpolation._faces import face_adjacency, unwrap_rotations
 
 T = np.linspace(0.0, 1.0, 11)
 
@@ -43,8 +42,8 @@ def test_bent_bar_keeps_its_lengths_past_half_a_turn(kind: str, turns: float) ->
     assert linear_blend_error(v, w, f, T) > 0.5
 
 
-def test_seeds_linear_laplacian_coordinates_are_the_linear_blend() -> None:
-    # The seed's recipe, solve L x = lerp(L p0, L p1) with the anchor on its line, gives
+def test_linear_laplacian_coordinates_are_the_linear_blend() -> None:
+    # Solving L x = lerp(L p0, L p1) with the anchor on its line gives
     # exactly the linear blend (interpolation and L commute): it shrinks the bar, which is
     # why the gradients, not the Laplacian coordinates, are interpolated.
     v, f = bar()
@@ -54,22 +53,9 @@ def test_seeds_linear_laplacian_coordinates_are_the_linear_blend() -> None:
     frames = np.array([system.solve(((1 - t) * v + t * w)[[0]], lap @ ((1 - t) * v + t * w))
                        for t in T])
     np.testing.assert_allclose(frames, [(1 - t) * v + t * w for t in T], atol=1e-10)
-    seed = edge_errors(frames, T, v, w, edges_of(v, f)).max()
+    blend = edge_errors(frames, T, v, w, edges_of(v, f)).max()
     ours = poisson(_mesh(v, f), _mesh(w, f), times=T).max_edge_error.max()
-    assert seed > 0.5 > 0.05 > ours
-
-
-def test_unwrap_by_hand_on_a_chain() -> None:
-    # three faces in a row with angles 3.0, -3.0, -2.9 (a turn past π): unwrapped from the
-    # smallest |angle| (face 2: -2.9) the chain becomes -2.9, -3.0, -3.0 - (2π - 6.0)
-    f = np.array([[0, 1, 2], [1, 2, 3], [2, 3, 4]])
-    w = np.array([[3.0], [-3.0], [-2.9]])
-    out = unwrap_rotations(w, face_adjacency(f))
-    np.testing.assert_allclose(out.ravel(), [3.0 - 2 * np.pi, -3.0, -2.9])
-    # in 3-D: the same about an axis (a vector of length θ, its alternatives θ + 2πk)
-    axis = np.array([0.0, 0.6, 0.8])
-    out3 = unwrap_rotations(w * axis, face_adjacency(f))
-    np.testing.assert_allclose(out3, out * axis, atol=1e-12)
+    assert blend > 0.5 > 0.05 > ours
 
 
 def test_rigid_motion_past_half_a_turn_is_the_shortest_arc_for_everyone() -> None:

@@ -103,9 +103,12 @@ def test_transform_must_be_a_rigid_motion(transform, kwargs, match) -> None:  # 
 
 
 def test_errors_name_their_input() -> None:
-    with pytest.raises(InvalidInputError) as info:
+    with pytest.raises(InvalidInputError, match="true or false") as info:
         rigid(SQUARE, SQUARE, scale="yes")
     assert info.value.field == "scale"
+    with pytest.raises(InvalidInputError, match="'centroid', 'origin'") as info:
+        rigid(SQUARE, SQUARE, pivot="corner")
+    assert info.value.field == "pivot"
     with pytest.raises(InvalidInputError) as info:
         rigid(SQUARE, SQUARE, times=[1.0, 0.0])
     assert info.value.field == "times"
