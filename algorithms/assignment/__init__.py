@@ -1,6 +1,6 @@
 """Assignment: correspondences between two point sets (who pairs with whom)."""
 
-from algorithms.assignment._dense import MAX_COST_ENTRIES, METRICS
+from algorithms.assignment._dense import MAX_COST_ENTRIES, METRICS, check_cost_size
 from algorithms.assignment.bipartite import BipartiteResult, bipartite
 from algorithms.assignment.closest_pair import ClosestPairResult, closest_pair
 from algorithms.assignment.distance import DistanceResult, distance
@@ -22,6 +22,7 @@ __all__ = [
     "NearestResult",
     "TransportResult",
     "bipartite",
+    "check_cost_size",
     "closest_pair",
     "distance",
     "nearest",

@@ -8,16 +8,20 @@ error instead of exhausting a worker's memory.
 
 from __future__ import annotations
 
+from typing import Literal, get_args
+
 import numpy as np
 from scipy.spatial.distance import cdist
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.types import FloatArray
 
-__all__ = ["METRICS", "MAX_COST_ENTRIES", "check_cost_size", "cost_matrix", "pair_distances"]
+__all__ = ["Metric", "METRICS", "MAX_COST_ENTRIES", "check_cost_size", "cost_matrix",
+           "pair_distances"]
 
+Metric = Literal["euclidean", "sqeuclidean"]
 #: The accepted values of ``metric``: the ground cost of a pair of points.
-METRICS = ("euclidean", "sqeuclidean")
+METRICS = get_args(Metric)
 
 #: The largest dense cost matrix built, in entries ``n·m`` (16 million: 128 MB of float64,
 #: e.g. 4,000 × 4,000 points). Sinkhorn holds two such matrices, the LP path three.

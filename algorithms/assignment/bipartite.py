@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
@@ -11,12 +11,14 @@ from scipy.optimize import linear_sum_assignment
 from algorithms.assignment._dense import (
     MAX_COST_ENTRIES,
     METRICS,
+    Metric,
     check_cost_size,
     cost_matrix,
     pair_distances,
 )
+from algorithms.core.params import Gt, PointsLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice, as_float, as_points, same_dim
+from algorithms.core.validation import as_points, same_dim
 
 __all__ = ["BipartiteResult", "bipartite", "METRICS", "MAX_COST_ENTRIES"]
 
@@ -54,12 +56,13 @@ class BipartiteResult:
     unmatched_target: IntArray
 
 
+@validate_params
 def bipartite(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    metric: str = "euclidean",
-    max_cost: float | None = None,
+    metric: Metric = "euclidean",
+    max_cost: Annotated[float, Gt(0)] | None = None,
 ) -> BipartiteResult:
     r"""Match the points of two sets one to one so that the total cost is least.
 
@@ -90,14 +93,16 @@ def bipartite(
     source : (n, d) float array
         The first point set, any ``d >= 1``, at least one point.
     target : (m, d) float array
-        The second point set, same ``d``; its size may differ from ``source``.
+        The second point set, same ``d``; its size may differ from ``source`` (the surplus
+        of the larger set stays unmatched). At most 16 million pairs ``n·m``
+        (``MAX_COST_ENTRIES``).
     metric : {"euclidean", "sqeuclidean"}, default "euclidean"
         The cost of a pair: the distance :math:`\lVert x_i - y_j \rVert`, or its square.
         The squared distance favours many small displacements over a few large ones.
     max_cost : float, optional
-        The largest cost of a pair (``> 0``, in the units of ``metric``), above which both
-        points rather stay unmatched (see above). Omitted: every point of the smaller set
-        is matched.
+        The largest cost of a pair (``> 0``, in the units of ``metric``): leaving a point
+        unmatched costs half of it, so points whose every partner costs more stay
+        unmatched. Omitted: every point of the smaller set is matched.
 
     Returns
     -------
@@ -153,10 +158,7 @@ def bipartite(
     src = as_points(source, name="source")
     dst = as_points(target, name="target")
     same_dim(src, dst, names=("source", "target"))
-    metric = as_choice(metric, METRICS, name="metric")
-    tau = None
-    if max_cost is not None:
-        tau = as_float(max_cost, name="max_cost", minimum=0.0, inclusive=False)
+    tau = max_cost
     n, m = src.shape[0], dst.shape[0]
     check_cost_size(n, m)
 

@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.assignment.nearest import SERIAL_BELOW
-from algorithms.core.errors import InvalidInputError
+from algorithms.assignment.nearest import SERIAL_BELOW, Workers, check_workers
+from algorithms.core.params import PointsLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_int, as_points, same_dim
+from algorithms.core.validation import as_points, same_dim
 
 __all__ = ["ClosestPairResult", "closest_pair"]
 
@@ -42,7 +41,9 @@ class ClosestPairResult:
     distances: FloatArray
 
 
-def closest_pair(source: Any, target: Any, *, workers: int = -1) -> ClosestPairResult:
+@validate_params
+def closest_pair(source: PointsLike, target: PointsLike, *, workers: Workers = -1
+                 ) -> ClosestPairResult:
     r"""Find the pair of points, one in each set, that are closest to each other.
 
     .. math::
@@ -102,12 +103,7 @@ def closest_pair(source: Any, target: Any, *, workers: int = -1) -> ClosestPairR
     src = as_points(source, name="source")
     dst = as_points(target, name="target")
     same_dim(src, dst, names=("source", "target"))
-    workers = as_int(workers, name="workers", minimum=-1)
-    if workers == 0:
-        raise InvalidInputError(
-            "Expected `workers` to be -1 (every core) or a positive integer, got 0.",
-            field="workers",
-        )
+    workers = check_workers(workers)
     tree_is_source = src.shape[0] < dst.shape[0]
     tree_points, query_points = (src, dst) if tree_is_source else (dst, src)
     if workers == -1 and query_points.shape[0] < SERIAL_BELOW:

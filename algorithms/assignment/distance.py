@@ -4,15 +4,14 @@ Hausdorff, RMSE."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.assignment.nearest import SERIAL_BELOW
-from algorithms.core.errors import InvalidInputError
+from algorithms.assignment.nearest import SERIAL_BELOW, Workers, check_workers
+from algorithms.core.params import PointsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_int, as_points, same_dim
+from algorithms.core.validation import as_points, same_dim
 
 __all__ = ["DistanceResult", "distance"]
 
@@ -60,7 +59,9 @@ class DistanceResult:
     backward_distances: FloatArray
 
 
-def distance(source: Any, target: Any, *, workers: int = -1) -> DistanceResult:
+@validate_params
+def distance(source: PointsLike, target: PointsLike, *, workers: Workers = -1
+             ) -> DistanceResult:
     r"""Measure how far apart two point sets are: Chamfer, Hausdorff and RMSE together.
 
     With the nearest-neighbour distances :math:`d_i = \min_j \lVert x_i - y_j \rVert`
@@ -74,8 +75,8 @@ def distance(source: Any, target: Any, *, workers: int = -1) -> DistanceResult:
         \text{hausdorff} &= \max\bigl(\max_i d_i,\ \max_j e_j\bigr), \qquad
         \text{rmse} = \sqrt{\frac{\sum_i d_i^2 + \sum_j e_j^2}{n + m}} .
 
-    ``chamfer`` is the "sum of distances as the difference of two sets" of the seed
-    document, and equals the sum of the distances of :func:`nearest` with
+    ``chamfer`` measures the difference of two sets by a sum of distances (Barrow et al.
+    1977 [1]_); it equals the sum of the distances of :func:`nearest` with
     ``direction="both"``.
 
     Parameters
@@ -137,12 +138,7 @@ def distance(source: Any, target: Any, *, workers: int = -1) -> DistanceResult:
     src = as_points(source, name="source")
     dst = as_points(target, name="target")
     same_dim(src, dst, names=("source", "target"))
-    workers = as_int(workers, name="workers", minimum=-1)
-    if workers == 0:
-        raise InvalidInputError(
-            "Expected `workers` to be -1 (every core) or a positive integer, got 0.",
-            field="workers",
-        )
+    workers = check_workers(workers)
     fwd = _nearest_distances(dst, src, workers)
     bwd = _nearest_distances(src, dst, workers)
     n, m = fwd.shape[0], bwd.shape[0]

@@ -3,19 +3,25 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Literal, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.params import Ge, Gt, PointsLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice, as_float, as_int, as_points, same_dim
+from algorithms.core.validation import as_int, as_points, same_dim
 
-__all__ = ["NearestResult", "nearest", "DIRECTIONS"]
+__all__ = ["NearestResult", "nearest", "Direction", "DIRECTIONS", "Workers", "check_workers"]
 
+Direction = Literal["forward", "backward", "union", "intersection", "both"]
 #: The accepted values of ``direction``.
-DIRECTIONS = ("forward", "backward", "union", "intersection", "both")
+DIRECTIONS = get_args(Direction)
+
+Workers = Annotated[int, Ge(-1)]
+"""Threads of the kd-tree queries: -1 (every core) or a positive count; 0 is refused by
+:func:`check_workers`."""
 
 #: With ``workers=-1``, queries of fewer points than this run on one thread.
 SERIAL_BELOW = 8192
@@ -44,14 +50,25 @@ class NearestResult:
     n_pairs: int
 
 
+def check_workers(workers: int) -> int:
+    """``workers`` (already an integer >= -1) unless it is 0, which starts no thread."""
+    if workers == 0:
+        raise InvalidInputError(
+            "Expected `workers` to be -1 (every core) or a positive integer, got 0.",
+            field="workers",
+        )
+    return workers
+
+
+@validate_params
 def nearest(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    k: int = 1,
-    direction: str = "forward",
-    max_distance: float | None = None,
-    workers: int = -1,
+    k: Annotated[int, Ge(1)] = 1,
+    direction: Direction = "forward",
+    max_distance: Annotated[float, Gt(0)] | None = None,
+    workers: Workers = -1,
 ) -> NearestResult:
     r"""Pair each point with its ``k`` nearest points in the other set.
 
@@ -83,10 +100,16 @@ def nearest(
         Neighbours per query point, ``1 <= k <=`` the size of the set searched: ``target``
         for forward, ``source`` for backward, the smaller of the two otherwise.
     direction : {"forward", "backward", "union", "intersection", "both"}, default "forward"
-        Which pairs to return (see above).
+        Which pairs to return: ``"forward"`` each source point with its ``k`` nearest
+        target points; ``"backward"`` each target point with its ``k`` nearest source
+        points; ``"union"`` the pairs found in either direction, ``"intersection"`` those
+        found in both (mutual nearest neighbours), each pair once; ``"both"`` the forward
+        list followed by the backward one, duplicates kept (with ``k=1`` its distances sum
+        to the Chamfer distance).
     max_distance : float, optional
-        Drop pairs farther apart than this (``> 0``); pairs at exactly this distance are
-        kept. Applied in each direction before union or intersection.
+        Drop pairs farther apart than this (``> 0``, in the points' units); pairs at exactly
+        this distance are kept. Applied in each direction before union or intersection.
+        Omitted: no pair is dropped.
     workers : int, default -1
         Threads for the kd-tree queries; -1 uses every core, except that a query of fewer
         than ``SERIAL_BELOW`` (8192) points runs on one thread, where starting threads costs
@@ -142,7 +165,6 @@ def nearest(
     src = as_points(source, name="source")
     dst = as_points(target, name="target")
     same_dim(src, dst, names=("source", "target"))
-    direction = as_choice(direction, DIRECTIONS, name="direction")
     n_s, n_t = src.shape[0], dst.shape[0]
     if direction == "forward":
         limit, why = n_t, "the number of `target` points"
@@ -152,15 +174,8 @@ def nearest(
         limit = min(n_s, n_t)
         why = f"the size of the smaller point set, `{'source' if n_s <= n_t else 'target'}`"
     k = as_int(k, name="k", minimum=1, maximum=limit, reason=why)
-    bound = None
-    if max_distance is not None:
-        bound = as_float(max_distance, name="max_distance", minimum=0.0, inclusive=False)
-    workers = as_int(workers, name="workers", minimum=-1)
-    if workers == 0:
-        raise InvalidInputError(
-            "Expected `workers` to be -1 (every core) or a positive integer, got 0.",
-            field="workers",
-        )
+    bound = max_distance
+    workers = check_workers(workers)
 
     if direction == "forward":
         s, t, dist = _query(dst, src, k, bound, workers)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Literal, get_args
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
@@ -12,21 +12,16 @@ from scipy.optimize import linear_sum_assignment
 from algorithms.assignment._dense import (
     MAX_COST_ENTRIES,
     METRICS,
+    Metric,
     check_cost_size,
     cost_matrix,
     pair_distances,
 )
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
+from algorithms.core.params import Ge, Gt, PointsLike, WeightsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import (
-    as_choice,
-    as_float,
-    as_int,
-    as_points,
-    as_weights,
-    same_dim,
-)
+from algorithms.core.validation import as_points, as_weights, same_dim
 
 __all__ = [
     "TransportResult",
@@ -36,8 +31,9 @@ __all__ = [
     "MAX_COST_ENTRIES",
 ]
 
+TransportMethod = Literal["exact", "sinkhorn"]
 #: The accepted values of ``method``.
-TRANSPORT_METHODS = ("exact", "sinkhorn")
+TRANSPORT_METHODS = get_args(TransportMethod)
 
 #: Sinkhorn reports progress (and may be cancelled) every this many iterations.
 PROGRESS_EVERY = 50
@@ -120,17 +116,18 @@ class TransportResult:
     solver: str
 
 
+@validate_params
 def optimal_transport(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    source_weights: Any = None,
-    target_weights: Any = None,
-    method: str = "exact",
-    reg: float = 0.05,
-    max_iterations: int = 1000,
-    tolerance: float = 1e-9,
-    metric: str = "sqeuclidean",
+    source_weights: WeightsLike | None = None,
+    target_weights: WeightsLike | None = None,
+    method: TransportMethod = "exact",
+    reg: Annotated[float, Gt(0)] = 0.05,
+    max_iterations: Annotated[int, Ge(1)] = 1000,
+    tolerance: Annotated[float, Gt(0)] = 1e-9,
+    metric: Metric = "sqeuclidean",
     progress: Progress | None = None,
 ) -> TransportResult:
     r"""Move the mass of one weighted point set onto another at the least total cost.
@@ -167,15 +164,20 @@ def optimal_transport(
     source : (n, d) float array
         The points mass leaves from, any ``d >= 1``, at least one point.
     target : (m, d) float array
-        The points mass arrives at, same ``d``; its size may differ from ``source``.
+        The points mass arrives at, same ``d``; its size may differ from ``source``. At
+        most 16 million pairs ``n·m`` (``MAX_COST_ENTRIES``).
     source_weights : (n,) float array, optional
         Non-negative masses of the source points with a positive sum; uniform when omitted.
         They are relative: normalised to sum to 1 (so the totals of the two sets never
         disagree). Points of mass 0 take no part.
     target_weights : (m,) float array, optional
-        The same for the target points.
+        Non-negative masses of the target points with a positive sum, normalised to sum
+        to 1; uniform when omitted. Points of mass 0 take no part.
     method : {"exact", "sinkhorn"}, default "exact"
-        The exact linear program, or entropic regularisation solved by Sinkhorn iterations.
+        ``"exact"``: the transport linear program (an assignment when the masses are
+        uniform on sets of equal size, else the network simplex); ``"sinkhorn"``: its
+        entropic regularisation, solved by log-domain Sinkhorn iterations (faster on
+        large sets, a blurred plan).
     reg : float, default 0.05
         Sinkhorn's :math:`\varepsilon` (``> 0``), in the units of the cost (absolute, as in
         POT): smaller is closer to the exact plan but needs more iterations. Checked but
@@ -293,11 +295,6 @@ def optimal_transport(
     n, m = src.shape[0], dst.shape[0]
     wa = as_weights(source_weights, n, name="source_weights")
     wb = as_weights(target_weights, m, name="target_weights")
-    method = as_choice(method, TRANSPORT_METHODS, name="method")
-    metric = as_choice(metric, METRICS, name="metric")
-    reg = as_float(reg, name="reg", minimum=0.0, inclusive=False)
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0, inclusive=False)
     check_cost_size(n, m)
     report = as_progress(progress)
 

@@ -3,16 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal, get_args
 
 import numpy as np
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.mesh import Mesh, boundary_loops, components, face_angles
+from algorithms.core.mesh import Mesh, boundary_loops, components, face_angles, read_mesh
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.mesh import read_mesh
 
-__all__ = ["NotADiskError", "Disk", "read_disk", "check_disk", "convex_boundary", "BOUNDARIES"]
+__all__ = ["NotADiskError", "Disk", "read_disk", "check_disk", "convex_boundary", "Boundary",
+           "BOUNDARIES"]
 
 
 class NotADiskError(InvalidInputError):
@@ -117,8 +117,9 @@ def read_disk(mesh: Any, *, name: str = "mesh") -> Disk:
     return Disk(m, check_disk(m, name=name))
 
 
+Boundary = Literal["circle", "square"]
 #: The accepted values of ``boundary``.
-BOUNDARIES = ("circle", "square")
+BOUNDARIES = get_args(Boundary)
 
 
 def convex_boundary(disk: Disk, shape: str) -> FloatArray:

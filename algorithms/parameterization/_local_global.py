@@ -25,6 +25,7 @@ to :math:`b`) in an isometric frame of the face, :math:`J_t` the face's Jacobian
 from __future__ import annotations
 
 import warnings
+
 import numpy as np
 import scipy.sparse as sp
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 import scipy.sparse as sp
@@ -15,9 +15,9 @@ from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
 from algorithms.core.laplacian import face_weights, laplacian
 from algorithms.core.linsolve import Factor, PinnedSystem
 from algorithms.core.mesh import Mesh, boundary_edges, face_angles
+from algorithms.core.params import Ge, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_float, as_int
 from algorithms.parameterization._disk import Disk, read_disk
 from algorithms.parameterization._quality import quality
 from algorithms.parameterization.conformal import farthest_boundary_pair
@@ -286,7 +286,9 @@ def angles_to_uv(disk: Disk, angles: FloatArray) -> tuple[FloatArray, IntArray]:
     return np.stack([x[:n], x[n:]], axis=1), idx
 
 
-def abf(mesh: Any, *, max_iterations: int = 20, tolerance: float = 1e-8,
+@validate_params
+def abf(mesh: MeshLike, *, max_iterations: Annotated[int, Ge(1)] = 20,
+        tolerance: Annotated[float, Ge(0)] = 1e-8,
         progress: Progress | None = None) -> AbfResult:
     r"""Map a disk-like mesh to the plane by angle-based flattening (ABF++).
 
@@ -316,8 +318,10 @@ def abf(mesh: Any, *, max_iterations: int = 20, tolerance: float = 1e-8,
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk.
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
     max_iterations : int, default 20
         Upper bound on Newton iterations.
     tolerance : float, default 1e-8
@@ -348,12 +352,12 @@ def abf(mesh: Any, *, max_iterations: int = 20, tolerance: float = 1e-8,
 
     Notes
     -----
-    The seed document states the problem with the unweighted objective
-    :math:`\sum\lVert\alpha - \beta\rVert^2` and the wheel constraint as a product of sine
-    ratios; this follows ABF/ABF++ in weighting by :math:`1/\beta^2` (relative angle
-    error, so small angles count as much as large ones) and uses the logarithm of the
-    product, which has the same solutions. The seed's non-negativity constraint is not
-    imposed (as in ABF++); angles are only kept inside :math:`(0, \pi)`.
+    **Objective and constraints.** The objective is weighted by :math:`1/\beta^2` as in ABF
+    and ABF++: the relative angle error, so that small angles count as much as large ones
+    (the unweighted :math:`\sum(\alpha - \beta)^2` lets small angles err most, relative
+    to their size). The wheel condition is imposed as the logarithm of the product of sine
+    ratios, which has the same solutions as the product. The angles are not constrained
+    to be non-negative (as in ABF++); they are only kept inside :math:`(0, \pi)`.
 
     With the log form, the Hessian of the Lagrangian in the angles is diagonal
     (:math:`2w_c` plus the wheel multipliers times :math:`\mp 1/\sin^2\alpha_c`), so the
@@ -386,8 +390,6 @@ def abf(mesh: Any, *, max_iterations: int = 20, tolerance: float = 1e-8,
     >>> res.iterations, res.converged, res.flipped_faces, res.angle_distortion < 1e-12
     (0, True, 0, True)
     """
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
     report = as_progress(progress)
     disk = read_disk(mesh)
     system = AngleSystem(disk)

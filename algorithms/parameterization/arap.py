@@ -2,23 +2,31 @@ r"""As-rigid-as-possible parameterization (Liu et al. 2008), local/global."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Annotated, Any, Literal, get_args
 
+from algorithms.core.params import Ge, MeshLike, validate_params
 from algorithms.core.progress import Progress
-from algorithms.core.validation import as_choice, as_float, as_int
 from algorithms.parameterization._disk import read_disk
 from algorithms.parameterization._local_global import LocalGlobalSolver, initial_map
 from algorithms.parameterization._results import LocalGlobalResult
 from algorithms.parameterization.conformal import farthest_boundary_pair
 
-__all__ = ["arap", "INITS"]
+__all__ = ["arap", "Init", "INITS"]
 
-#: The accepted values of ``init``.
-INITS = ("lscm", "harmonic")
+Init = Literal["lscm", "harmonic"]
+#: The accepted values of ``init`` (of ARAP and ASAP).
+INITS = get_args(Init)
 
 
-def arap(mesh: Any, *, init: str = "lscm", max_iterations: int = 100,
-         tolerance: float = 1e-6, progress: Progress | None = None) -> LocalGlobalResult:
+@validate_params
+def arap(
+    mesh: MeshLike,
+    *,
+    init: Init = "lscm",
+    max_iterations: Annotated[int, Ge(1)] = 100,
+    tolerance: Annotated[float, Ge(0)] = 1e-6,
+    progress: Progress | None = None,
+) -> LocalGlobalResult:
     r"""Map a disk-like mesh to the plane with every triangle as close to an isometry as
     possible, its boundary free.
 
@@ -38,12 +46,16 @@ def arap(mesh: Any, *, init: str = "lscm", max_iterations: int = 100,
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk.
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
     init : {"lscm", "harmonic"}, default "lscm"
-        The starting map: LSCM (farthest boundary pair pinned) or the harmonic map onto the
-        circle, scaled to the surface's area.
+        The starting map, scaled to the surface's area: ``"lscm"`` the least-squares
+        conformal map (farthest boundary pair pinned), ``"harmonic"`` the harmonic map onto
+        the circle.
     max_iterations : int, default 100
+        Upper bound on local/global iterations.
     tolerance : float, default 1e-6
         Stop when an iteration lowers the energy by at most this fraction; ``0`` runs all
         ``max_iterations`` (libigl's behaviour).
@@ -70,15 +82,16 @@ def arap(mesh: Any, *, init: str = "lscm", max_iterations: int = 100,
 
     Notes
     -----
-    The global step follows the seed document, which corrects the paper's presentation of
-    it: with per-*face* transforms the global step "cannot be turned into a
-    Laplacian-preserving deformation" (:math:`L u = L x`-style, one rotation per edge or
-    vertex); every half-edge keeps its own face's rotation, and the system is the
-    least-squares one of "relative positions as fixed as possible",
-    :math:`D^\mathsf{T} W D\, u = D^\mathsf{T} W\, (R_t e_t^k)`, whose matrix happens to be
-    the cotangent Laplacian (each half-edge weighted by :math:`\tfrac12\cot` of its own
-    face) while the right-hand side is assembled per half-edge. The seed's other remark
-    holds: the result is *like* a rigid map, not rigid (no map of a curved disk is).
+    **The global step is assembled per half-edge.** With one transform per *face*, the
+    global step is not a Laplacian-preserving solve :math:`L u = \tilde L x` with one
+    rotation per vertex or edge (as in ARAP surface deformation), which would mix the
+    rotations of the faces around an edge and not minimise :math:`E`. Every half-edge
+    keeps its own face's rotation, and the step is the least-squares fit of the rotated
+    edge vectors, :math:`D^\mathsf{T} W D\, u = D^\mathsf{T} W\, (R_t e_t^k)`, whose matrix
+    happens to be the cotangent Laplacian (each half-edge weighted by
+    :math:`\tfrac12\cot` of its own face's angle) while the right-hand side is assembled
+    per half-edge. The result is close to an isometry, not one: no map of a curved disk
+    to the plane is.
 
     ARAP does not prevent flipped or overlapping triangles (libigl issue 2523): they are
     counted in ``flipped_faces``.
@@ -103,11 +116,9 @@ def arap(mesh: Any, *, init: str = "lscm", max_iterations: int = 100,
     return _run(mesh, init, max_iterations, tolerance, progress, similarity=False)
 
 
-def _run(mesh: Any, init: str, max_iterations: Any, tolerance: Any,
+def _run(mesh: Any, init: str, max_iterations: int, tolerance: float,
          progress: Progress | None, *, similarity: bool) -> LocalGlobalResult:
-    init = as_choice(init, INITS, name="init")
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
+    """ARAP or ASAP on checked options."""
     disk = read_disk(mesh)
     uv0 = initial_map(disk, init)
     if similarity:

@@ -2,17 +2,25 @@ r"""As-similar-as-possible parameterization (Liu et al. 2008), local/global."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Annotated
 
+from algorithms.core.params import Ge, MeshLike, validate_params
 from algorithms.core.progress import Progress
 from algorithms.parameterization._results import LocalGlobalResult
-from algorithms.parameterization.arap import _run
+from algorithms.parameterization.arap import Init, _run
 
 __all__ = ["asap"]
 
 
-def asap(mesh: Any, *, init: str = "harmonic", max_iterations: int = 100,
-         tolerance: float = 1e-6, progress: Progress | None = None) -> LocalGlobalResult:
+@validate_params
+def asap(
+    mesh: MeshLike,
+    *,
+    init: Init = "harmonic",
+    max_iterations: Annotated[int, Ge(1)] = 100,
+    tolerance: Annotated[float, Ge(0)] = 1e-6,
+    progress: Progress | None = None,
+) -> LocalGlobalResult:
     r"""Map a disk-like mesh to the plane with every triangle as close to a similarity
     (rotation and uniform scale) as possible.
 
@@ -28,11 +36,16 @@ def asap(mesh: Any, *, init: str = "harmonic", max_iterations: int = 100,
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk.
-    init : {"harmonic", "lscm"}, default "harmonic"
-        The starting map (see :func:`~algorithms.parameterization.arap`).
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
+    init : {"lscm", "harmonic"}, default "harmonic"
+        The starting map, scaled to the surface's area: ``"harmonic"`` the harmonic map
+        onto the circle; ``"lscm"`` the least-squares conformal map with the same two pins,
+        already the minimum of the ASAP energy (the iteration stops at once).
     max_iterations : int, default 100
+        Upper bound on local/global iterations.
     tolerance : float, default 1e-6
         Stop when an iteration lowers the energy by at most this fraction; ``0`` runs all
         ``max_iterations``.
@@ -58,8 +71,9 @@ def asap(mesh: Any, *, init: str = "harmonic", max_iterations: int = 100,
 
     Notes
     -----
-    The global step is the per-half-edge least-squares solve the seed document asks for
-    (see the Notes of :func:`~algorithms.parameterization.arap`). Minimised over
+    The global step is the least-squares solve of
+    :func:`~algorithms.parameterization.arap`, assembled per half-edge with each face's own
+    similarity. Minimised over
     :math:`S`, :math:`E` is exactly the conformal energy of
     :func:`~algorithms.parameterization.conformal` (per face :math:`\lVert J - S\rVert^2 =
     \tfrac12\lVert J\rVert^2 - \det J` times two), so ASAP with two pins converges to the

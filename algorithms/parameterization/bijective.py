@@ -6,7 +6,7 @@ from __future__ import annotations
 import importlib.util
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -15,9 +15,9 @@ from scipy.spatial import cKDTree
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
 from algorithms.core.linsolve import Factor
 from algorithms.core.mesh import Mesh, face_areas, signed_areas
+from algorithms.core.params import Ge, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_float, as_int
 from algorithms.layout import laplacian as spring_layout
 from algorithms.parameterization._disk import Disk, convex_boundary, read_disk
 from algorithms.parameterization._quality import face_frames, jacobians, quality
@@ -502,7 +502,9 @@ def tutte_start(disk: Disk) -> FloatArray:
     return uv * np.sqrt(face_areas(m.vertices, m.faces).sum() / sa.sum())
 
 
-def bijective(mesh: Any, *, max_iterations: int = 100, tolerance: float = 1e-6,
+@validate_params
+def bijective(mesh: MeshLike, *, max_iterations: Annotated[int, Ge(1)] = 100,
+              tolerance: Annotated[float, Ge(0)] = 1e-6,
               progress: Progress | None = None) -> BijectiveResult:
     r"""Map a disk-like mesh to the plane bijectively, as close to an isometry as the
     symmetric Dirichlet energy gets, its boundary free.
@@ -542,9 +544,12 @@ def bijective(mesh: Any, *, max_iterations: int = 100, tolerance: float = 1e-6,
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk.
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
     max_iterations : int, default 100
+        Upper bound on SLIM iterations.
     tolerance : float, default 1e-6
         Stop when an iteration lowers the objective by at most this fraction; ``0`` runs
         all ``max_iterations`` (unless no step lowers it any more).
@@ -572,17 +577,20 @@ def bijective(mesh: Any, *, max_iterations: int = 100, tolerance: float = 1e-6,
 
     Notes
     -----
-    The seed document writes the barrier's distance as the triangle-inequality slack
-    :math:`d_{ijk} = \lVert p_i - p_k\rVert + \lVert p_j - p_k\rVert - \lVert p_i -
-    p_j\rVert`. That slack also vanishes when the boundary is merely straight at a vertex
-    next to the edge (it measures collinearity, not contact), so a smooth free boundary
-    would be pushed off straightness; we use the distance to the segment, as Smith and
-    Schaefer's paper does, and leave out the two vertices next to an edge (they cannot
-    reach it without a face of theirs collapsing first, which the energy forbids; the line
-    search still checks them). The seed's third term, a scaffold mesh around the boundary,
-    is the alternative of Jiang et al. 2017; we keep the paper's barrier. The seed's
-    energy omits the area weights; with them the energy does not depend on how finely a
-    region is meshed.
+    **The barrier measures the distance to the segment**, as Smith and Schaefer's paper
+    does. The triangle-inequality slack :math:`d_{ijk} = \lVert p_i - p_k\rVert +
+    \lVert p_j - p_k\rVert - \lVert p_i - p_j\rVert`, sometimes used in its place, is
+    zero on the segment too, but it measures how far the three points are from
+    collinear, not how close :math:`p_k` is to the edge: at height :math:`h` over the
+    middle of an edge of length :math:`\ell` it is about :math:`2h^2/\ell`, so its reach
+    would depend on the edge's length. The two vertices next to an edge are left out
+    (they cannot reach it without a face of theirs collapsing first, which the energy
+    forbids; the line search still checks them). A scaffold mesh around the boundary
+    (Jiang et al. 2017) is the other way to keep a free boundary from crossing itself;
+    this keeps the paper's barrier.
+
+    **Area weights.** The symmetric Dirichlet energy is weighted by face area, so that it
+    does not depend on how finely a region is meshed.
 
     Smith and Schaefer minimise with a quasi-Newton method; SLIM's proxy converges in
     fewer iterations on the same energy, and the flip-free and contact-free step bounds
@@ -607,8 +615,6 @@ def bijective(mesh: Any, *, max_iterations: int = 100, tolerance: float = 1e-6,
     >>> round(res.symmetric_dirichlet, 6), res.flipped_faces, res.boundary_crossings
     (4.0, 0, 0)
     """
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
     disk = read_disk(mesh)
     uv0 = tutte_start(disk)
     return BijectiveSolver(disk, uv0).solve(uv0, max_iterations=max_iterations,

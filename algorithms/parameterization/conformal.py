@@ -3,7 +3,7 @@ and spectral conformal parameterization (free boundary)."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal, get_args
 
 import numpy as np
 import scipy.sparse as sp
@@ -21,16 +21,17 @@ from algorithms.core.mesh import (
     face_areas,
     signed_areas,
 )
+from algorithms.core.params import HandlesLike, MeshLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice
 from algorithms.parameterization._disk import Disk, read_disk
 from algorithms.parameterization._results import ParameterizationResult, direct_result
 
 __all__ = ["conformal", "conformal_energy_matrix", "farthest_boundary_pair", "lscm_uv",
-           "CONFORMAL_METHODS"]
+           "check_pins", "ConformalMethod", "CONFORMAL_METHODS"]
 
+ConformalMethod = Literal["lscm", "spectral"]
 #: The accepted values of ``method``.
-CONFORMAL_METHODS = ("lscm", "spectral")
+CONFORMAL_METHODS = get_args(ConformalMethod)
 
 
 def conformal_energy_matrix(mesh: Mesh) -> sp.csr_array:
@@ -97,7 +98,9 @@ def lscm_uv(disk: Disk, pins: Handles | None = None) -> tuple[FloatArray, IntArr
     return uv, idx, _conformal_energy(q, uv)
 
 
-def _check_pins(pins: Any, mesh: Mesh) -> Handles:
+def check_pins(pins: Any, mesh: Mesh) -> Handles:
+    """LSCM's ``pins`` checked against ``mesh``: at least two vertices of it, at ``(p, 2)``
+    positions in the plane that are not all one point."""
     h = as_handles(pins, mesh.n_vertices, name="pins")
     if h.positions.shape[1] != 2:
         raise InvalidInputError(
@@ -171,7 +174,9 @@ def spectral_uv(disk: Disk) -> tuple[FloatArray, float]:
     return uv, _conformal_energy(conformal_energy_matrix(m), uv)
 
 
-def conformal(mesh: Any, *, method: str = "lscm", pins: Any = None) -> ParameterizationResult:
+@validate_params
+def conformal(mesh: MeshLike, *, method: ConformalMethod = "lscm",
+              pins: HandlesLike | None = None) -> ParameterizationResult:
     r"""Conformal (angle-preserving as far as possible) map of a disk-like mesh to the plane.
 
     Both methods minimise the conformal energy
@@ -199,11 +204,20 @@ def conformal(mesh: Any, *, method: str = "lscm", pins: Any = None) -> Parameter
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk.
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
     method : {"lscm", "spectral"}, default "lscm"
-    pins : Handles or {"indices", "positions"}, optional
-        LSCM only: at least two vertices and their ``(p, 2)`` positions in the plane.
+        ``"lscm"``: the least-squares conformal map with at least two vertices pinned
+        (``pins``); ``"spectral"``: free boundary and no pins, the first non-trivial
+        generalized eigenvector, centred, scaled to the surface's area and turned so the
+        farthest boundary pair lies along +x.
+    pins : Handles or mapping, optional
+        LSCM only: at least two vertices and their positions in the plane,
+        ``{"indices": (p,), "positions": (p, 2)}``. Omitted: the two boundary vertices
+        farthest apart in space, at :math:`(0, 0)` and :math:`(d, 0)`, :math:`d` their
+        distance.
 
     Returns
     -------
@@ -223,9 +237,11 @@ def conformal(mesh: Any, *, method: str = "lscm", pins: Any = None) -> Parameter
 
     Notes
     -----
-    The seed document's summary applies: when the area is fixed, as-conformal-as-possible
-    equals as-harmonic-as-possible (the cotangent Dirichlet energy); the :math:`-A(u)` term
-    is what lets the boundary move instead of being pinned. With :math:`E_C` written as
+    **Conformal and harmonic.** The area :math:`A(u)` of the image depends on the
+    boundary's image alone, so with the whole boundary pinned, minimising :math:`E_C` is
+    minimising the Dirichlet energy: the harmonic map
+    (:func:`~algorithms.parameterization.harmonic`). The :math:`-A(u)` term is what lets
+    the boundary move instead. With :math:`E_C` written as
     :math:`\sum_t A_t\lVert J_t - S_t\rVert^2`, LSCM is also the fixed point of the ASAP
     local/global iteration with the same pins
     (:func:`~algorithms.parameterization.asap`). The spectral method uses the boundary
@@ -252,7 +268,6 @@ def conformal(mesh: Any, *, method: str = "lscm", pins: Any = None) -> Parameter
     >>> (res.uv.round(12) + 0.0).tolist(), res.angle_distortion < 1e-12
     ([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0], [1.0, 1.0]], True)
     """
-    method = as_choice(method, CONFORMAL_METHODS, name="method")
     disk = read_disk(mesh)
     m = disk.mesh
     if method == "spectral":
@@ -263,6 +278,6 @@ def conformal(mesh: Any, *, method: str = "lscm", pins: Any = None) -> Parameter
                 field="pins")
         uv, energy = spectral_uv(disk)
         return direct_result(m, uv, np.zeros(0, dtype=np.int64), energy)
-    h = None if pins is None else _check_pins(pins, m)
+    h = None if pins is None else check_pins(pins, m)
     uv, idx, energy = lscm_uv(disk, h)
     return direct_result(m, uv, idx, energy)

@@ -3,17 +3,16 @@ interior by the cotangent Laplace equation."""
 
 from __future__ import annotations
 
-from typing import Any
-
-from algorithms.core.validation import as_choice
+from algorithms.core.params import MeshLike, validate_params
 from algorithms.layout import laplacian as spring_layout
-from algorithms.parameterization._disk import BOUNDARIES, convex_boundary, read_disk
+from algorithms.parameterization._disk import Boundary, convex_boundary, read_disk
 from algorithms.parameterization._results import ParameterizationResult, direct_result
 
 __all__ = ["harmonic"]
 
 
-def harmonic(mesh: Any, *, boundary: str = "circle") -> ParameterizationResult:
+@validate_params
+def harmonic(mesh: MeshLike, *, boundary: Boundary = "circle") -> ParameterizationResult:
     r"""Harmonic map of a disk-like mesh onto a disk (or square): minimal Dirichlet energy
     with the boundary fixed.
 
@@ -31,9 +30,15 @@ def harmonic(mesh: Any, *, boundary: str = "circle") -> ParameterizationResult:
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk.
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
     boundary : {"circle", "square"}, default "circle"
+        The convex polygon the boundary loop is pinned to, its vertices spaced by boundary
+        edge length: ``"circle"`` the unit circle; ``"square"`` the square
+        :math:`[-1, 1]^2`, its corners at the four boundary vertices of smallest angle sum
+        (the surface's own corners; at least 4 boundary vertices).
 
     Returns
     -------
@@ -52,13 +57,15 @@ def harmonic(mesh: Any, *, boundary: str = "circle") -> ParameterizationResult:
 
     Notes
     -----
-    The seed document derives this map: the Dirichlet energy of the piecewise-linear map
-    equals the graph energy with the cotangent weights, and "when the area is fixed,
-    as-conformal-as-possible = as-harmonic-as-possible" — pinning the boundary to a convex
-    polygon fixes the area. Its caveat holds too: on a mesh that is not Delaunay some
-    weights are negative, the maximum principle fails, and faces may flip (counted in
-    ``flipped_faces``); :func:`~algorithms.parameterization.tutte` with positive weights
-    never flips.
+    **Why the cotangent weights.** The Dirichlet energy of the piecewise-linear map equals
+    the graph energy :math:`\sum_{(i,j)} w_{ij} \lVert u_i - u_j \rVert^2` with the
+    cotangent weights (Pinkall and Polthier). The conformal energy is half the Dirichlet
+    energy minus the area of the image, and that area depends on the boundary's image
+    alone; with the boundary pinned, the most conformal map is therefore the harmonic one.
+
+    **Flips.** On a mesh that is not Delaunay some cotangent weights are negative, the
+    maximum principle fails, and faces may flip (counted in ``flipped_faces``);
+    :func:`~algorithms.parameterization.tutte` with positive weights never flips.
 
     References
     ----------
@@ -75,7 +82,6 @@ def harmonic(mesh: Any, *, boundary: str = "circle") -> ParameterizationResult:
     >>> (res.uv[4].round(12) + 0.0).tolist(), res.flipped_faces
     ([0.0, 0.0], 0)
     """
-    boundary = as_choice(boundary, BOUNDARIES, name="boundary")
     disk = read_disk(mesh)
     m = disk.mesh
     values = convex_boundary(disk, boundary)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -13,10 +13,10 @@ import scipy.sparse.linalg as sla
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
 from algorithms.core.mesh import Mesh
+from algorithms.core.params import Ge, Interval, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice, as_float, as_int
-from algorithms.parameterization._disk import BOUNDARIES, convex_boundary, read_disk
+from algorithms.parameterization._disk import Boundary, convex_boundary, read_disk
 from algorithms.parameterization._quality import face_frames, jacobians, quality
 from algorithms.parameterization.tutte import mean_value_weights
 
@@ -170,9 +170,16 @@ class _RowSolver:
         return x
 
 
-def stretch_minimizing(mesh: Any, *, boundary: str = "circle", power: float = 1.0,
-                       max_iterations: int = 20, tolerance: float = 1e-4,
-                       progress: Progress | None = None) -> StretchResult:
+@validate_params
+def stretch_minimizing(
+    mesh: MeshLike,
+    *,
+    boundary: Boundary = "circle",
+    power: Annotated[float, Interval(gt=0, le=4)] = 1.0,
+    max_iterations: Annotated[int, Ge(1)] = 20,
+    tolerance: Annotated[float, Ge(0)] = 1e-4,
+    progress: Progress | None = None,
+) -> StretchResult:
     r"""Map a disk-like mesh to the plane with low texture stretch, its boundary fixed on a
     circle or square (Yoshizawa et al. 2004).
 
@@ -200,14 +207,20 @@ def stretch_minimizing(mesh: Any, *, boundary: str = "circle", power: float = 1.
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk: ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces, one
-        boundary loop.
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
     boundary : {"circle", "square"}, default "circle"
-        The convex polygon the boundary loop is fixed to (spaced by boundary edge length).
+        The convex polygon the boundary loop is pinned to, its vertices spaced by boundary
+        edge length: ``"circle"`` the unit circle; ``"square"`` the square
+        :math:`[-1, 1]^2`, its corners at the four boundary vertices of smallest angle sum
+        (the surface's own corners; at least 4 boundary vertices).
     power : float, default 1.0
-        The exponent :math:`p` of the reweighting (Yoshizawa et al.: 1). Smaller steps are
-        safer on very stretched meshes; larger ones converge faster when they work.
+        The exponent :math:`p` of the reweighting :math:`w_{ij} \leftarrow w_{ij} /
+        \sigma_j^p`, :math:`\sigma_j` the stretch around vertex :math:`j`; ``0 < p <= 4``
+        (Yoshizawa et al.: 1). Smaller steps are safer on very stretched meshes; larger
+        ones converge faster when they work.
     max_iterations : int, default 20
         Upper bound on reweightings.
     tolerance : float, default 1e-4
@@ -238,15 +251,16 @@ def stretch_minimizing(mesh: Any, *, boundary: str = "circle", power: float = 1.
 
     Notes
     -----
-    The seed document summarises the method as "average each vertex's energy over its
-    faces weighted by area, take the square root as the edge-length scale, use its
-    reciprocal as the weight" and remarks that none of these steps comes with a proof:
-    the stretch need not fall at every step. We therefore keep the best map seen and stop
-    at the first step that does not lower the stretch, as Yoshizawa et al. do. The weights
-    are updated cumulatively (:math:`w_{ij} \leftarrow w_{ij}/\sigma_j^p`, the paper)
-    rather than reset to :math:`1/\sigma_j` from uniform ones (the seed's shorthand); the
-    stretch measured is the one of the map from the plane to the surface (Sander et al.),
-    i.e. of :math:`J_t^{-1}`.
+    **No proof of descent.** The reweighting is a heuristic: no step of it is proven to
+    lower the stretch, and on some meshes one does not. The best map seen is therefore
+    kept, and the iteration stops at the first step that does not lower the stretch, as
+    Yoshizawa et al. do.
+
+    **Cumulative weights.** The weights are updated cumulatively,
+    :math:`w_{ij} \leftarrow w_{ij}/\sigma_j^p` as in the paper, not reset to
+    :math:`1/\sigma_j^p` times uniform weights at each step (which would undo the earlier
+    steps' corrections). The stretch measured is that of the map from the plane to the
+    surface (Sander et al.), i.e. of :math:`J_t^{-1}`.
 
     References
     ----------
@@ -266,10 +280,6 @@ def stretch_minimizing(mesh: Any, *, boundary: str = "circle", power: float = 1.
     >>> round(res.l2_stretch, 12), res.flipped_faces
     (1.0, 0)
     """
-    boundary = as_choice(boundary, BOUNDARIES, name="boundary")
-    power = as_float(power, name="power", minimum=0.0, maximum=4.0, inclusive=(False, True))
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
     report = as_progress(progress)
     disk = read_disk(mesh)
     m = disk.mesh

@@ -3,23 +3,24 @@ vertex at a convex combination of its neighbours (uniform or mean value weights)
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal, get_args
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from algorithms.core.mesh import Mesh
+from algorithms.core.params import MeshLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_choice
 from algorithms.layout import laplacian as spring_layout
-from algorithms.parameterization._disk import BOUNDARIES, convex_boundary, read_disk
+from algorithms.parameterization._disk import Boundary, convex_boundary, read_disk
 from algorithms.parameterization._results import ParameterizationResult, direct_result
 
-__all__ = ["tutte", "mean_value_weights", "TUTTE_WEIGHTINGS"]
+__all__ = ["tutte", "mean_value_weights", "TutteWeighting", "TUTTE_WEIGHTINGS"]
 
+TutteWeighting = Literal["uniform", "mean_value"]
 #: The accepted values of ``weighting``.
-TUTTE_WEIGHTINGS = ("uniform", "mean_value")
+TUTTE_WEIGHTINGS = get_args(TutteWeighting)
 
 
 def mean_value_weights(vertices: Any, faces: Any) -> sp.csr_array:
@@ -35,14 +36,14 @@ def mean_value_weights(vertices: Any, faces: Any) -> sp.csr_array:
     n = v.shape[0]
     rows, cols, vals = [], [], []
     for k in range(3):
-        i, j, l = f[:, k], f[:, (k + 1) % 3], f[:, (k + 2) % 3]
-        a, b = v[j] - v[i], v[l] - v[i]
+        i, j, h = f[:, k], f[:, (k + 1) % 3], f[:, (k + 2) % 3]
+        a, b = v[j] - v[i], v[h] - v[i]
         la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
         cross = (np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) if v.shape[1] == 2
                  else np.linalg.norm(np.cross(a, b), axis=1))
         half_tan = cross / (la * lb + np.einsum("ij,ij->i", a, b))   # tan(θ_i / 2)
         rows += [i, i]
-        cols += [j, l]
+        cols += [j, h]
         vals += [half_tan / la, half_tan / lb]
     w = sp.coo_array((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                      shape=(n, n)).tocsr()
@@ -64,8 +65,9 @@ def _mean_value_solve(mesh: Mesh, pinned: np.ndarray, values: FloatArray) -> Flo
     return x
 
 
-def tutte(mesh: Any, *, boundary: str = "circle", weighting: str = "uniform"
-          ) -> ParameterizationResult:
+@validate_params
+def tutte(mesh: MeshLike, *, boundary: Boundary = "circle",
+          weighting: TutteWeighting = "uniform") -> ParameterizationResult:
     r"""Tutte's embedding: pin the boundary to a convex polygon, put every interior vertex
     at a convex combination of its neighbours.
 
@@ -85,12 +87,20 @@ def tutte(mesh: Any, *, boundary: str = "circle", weighting: str = "uniform"
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) or {"vertices", "faces"}
-        A topological disk: ``(n, 2)`` or ``(n, 3)`` vertices, ``(m, 3)`` faces, one
-        boundary loop.
+    mesh : Mesh, (vertices, faces) or mapping
+        A topological disk ``{"vertices": (n, 2|3), "faces": (m, 3)}``, faces of 0-based
+        vertex indices: connected, manifold, consistently oriented, exactly one boundary
+        loop, every vertex in a face, no zero-area face.
     boundary : {"circle", "square"}, default "circle"
-        The convex polygon the boundary loop goes to.
+        The convex polygon the boundary loop is pinned to, its vertices spaced by boundary
+        edge length: ``"circle"`` the unit circle; ``"square"`` the square
+        :math:`[-1, 1]^2`, its corners at the four boundary vertices of smallest angle sum
+        (the surface's own corners; at least 4 boundary vertices).
     weighting : {"uniform", "mean_value"}, default "uniform"
+        The interior weights: ``"uniform"`` 1 per edge (Tutte's barycentric map);
+        ``"mean_value"`` Floater's mean value weights (closer to conformal; a planar mesh
+        pinned to its own convex outline comes back as itself). Both are positive, so no
+        face flips.
 
     Returns
     -------
@@ -111,9 +121,10 @@ def tutte(mesh: Any, *, boundary: str = "circle", weighting: str = "uniform"
 
     Notes
     -----
-    The seed document states the theorem this relies on ("when the pins form a convex
-    polygon ... no edge crosses, no angle flips") and asks whether the incentre (tangent)
-    weights could replace the cotangent ones; those are available as
+    **No flips.** With the boundary on a convex polygon and every weight positive, the
+    solution is an embedding: no vertex outside the polygon, no crossing edges, no flipped
+    face (Tutte 1963; Floater 2003 for any positive weights). The symmetric incentre
+    (tangent) weights keep the guarantee too; they are
     :func:`algorithms.layout.laplacian` with ``weighting="tangent"``. Floater's mean value
     weights differ from them: they are per-vertex (not symmetric) and have linear
     precision.
@@ -131,8 +142,6 @@ def tutte(mesh: Any, *, boundary: str = "circle", weighting: str = "uniform"
     >>> (res.uv.round(12) + 0.0).tolist(), res.flipped_faces
     ([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [0.0, 0.0]], 0)
     """
-    boundary = as_choice(boundary, BOUNDARIES, name="boundary")
-    weighting = as_choice(weighting, TUTTE_WEIGHTINGS, name="weighting")
     disk = read_disk(mesh)
     m = disk.mesh
     values = convex_boundary(disk, boundary)

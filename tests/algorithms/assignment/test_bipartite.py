@@ -248,8 +248,8 @@ def test_error_metric():
 @pytest.mark.parametrize(
     ("value", "message"),
     [
-        (0.0, r"`max_cost` to be a number > 0.0, got 0.0"),
-        (-2, r"`max_cost` to be a number > 0.0, got -2.0"),
+        (0.0, r"`max_cost` to be a number > 0, got 0.0"),
+        (-2, r"`max_cost` to be a number > 0, got -2.0"),
         (float("nan"), r"`max_cost` to be a finite number, got nan"),
         (float("inf"), r"`max_cost` to be a finite number, got inf"),
         ("1", r"`max_cost` to be a number, got '1'"),

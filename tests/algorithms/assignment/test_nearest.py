@@ -182,7 +182,7 @@ def test_error_k_too_large(direction, message):
 
 @pytest.mark.parametrize("k", [0, -1])
 def test_error_k_too_small(k):
-    with pytest.raises(InvalidInputError, match=rf"Expected `k` to be an integer >= 1 .*got {k}\."):
+    with pytest.raises(InvalidInputError, match=rf"Expected `k` to be an integer >= 1.*got {k}\."):
         nearest(SOURCE, TARGET, k=k)
 
 
@@ -205,8 +205,8 @@ def test_error_direction():
 @pytest.mark.parametrize(
     ("value", "message"),
     [
-        (0.0, r"`max_distance` to be a number > 0.0, got 0.0"),
-        (-1, r"`max_distance` to be a number > 0.0, got -1.0"),
+        (0.0, r"`max_distance` to be a number > 0, got 0.0"),
+        (-1, r"`max_distance` to be a number > 0, got -1.0"),
         (float("nan"), r"`max_distance` to be a finite number, got nan"),
         (float("inf"), r"`max_distance` to be a finite number, got inf"),
         ("1", r"`max_distance` to be a number, got '1'"),

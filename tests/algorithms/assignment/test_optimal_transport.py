@@ -383,8 +383,8 @@ def test_error_weights(name, value, message):
 @pytest.mark.parametrize(
     ("value", "message"),
     [
-        (0.0, r"`reg` to be a number > 0.0, got 0.0"),
-        (-0.1, r"`reg` to be a number > 0.0, got -0.1"),
+        (0.0, r"`reg` to be a number > 0, got 0.0"),
+        (-0.1, r"`reg` to be a number > 0, got -0.1"),
         (float("nan"), r"`reg` to be a finite number, got nan"),
         ("0.1", r"`reg` to be a number, got '0.1'"),
     ],
@@ -407,8 +407,8 @@ def test_error_reg_too_small_for_the_costs():
     [
         ({"max_iterations": 0}, "max_iterations", r"`max_iterations` to be an integer >= 1, got 0"),
         ({"max_iterations": 2.5}, "max_iterations", r"`max_iterations` to be an integer, got 2.5"),
-        ({"tolerance": 0.0}, "tolerance", r"`tolerance` to be a number > 0.0, got 0.0"),
-        ({"tolerance": -1e-9}, "tolerance", r"`tolerance` to be a number > 0.0"),
+        ({"tolerance": 0.0}, "tolerance", r"`tolerance` to be a number > 0, got 0.0"),
+        ({"tolerance": -1e-9}, "tolerance", r"`tolerance` to be a number > 0"),
         ({"method": "simplex"}, "method", r"`method` to be one of 'exact', 'sinkhorn', got "
          r"'simplex'"),
         ({"metric": "cosine"}, "metric", r"`metric` to be one of 'euclidean', 'sqeuclidean', "

@@ -12,7 +12,6 @@ import igl
 import numpy as np
 import pytest
 import trimesh
-from tests.algorithms.parameterization.param_meshes import bumpy, cap, grid
 from scipy.optimize import minimize
 
 from algorithms.core.errors import (
@@ -24,6 +23,7 @@ from algorithms.core.mesh import face_angles
 from algorithms.parameterization import NotADiskError, abf, conformal, harmonic
 from algorithms.parameterization._disk import read_disk
 from algorithms.parameterization.abf import AngleSystem, angles_to_uv
+from tests.algorithms.parameterization.param_meshes import bumpy, cap, grid
 
 
 def _pairwise(x: np.ndarray) -> np.ndarray:
@@ -233,9 +233,11 @@ def test_degenerate_and_malformed_input() -> None:
         abf((v, f))
     with pytest.raises(InvalidInputError, match="`mesh`"):
         abf({"vertices": [[0, 0, 0]]})
-    with pytest.raises(InvalidInputError, match="`max_iterations`"):
+    with pytest.raises(InvalidInputError,
+                       match=r"Expected `max_iterations` to be an integer >= 1, got 0\."):
         abf(bumpy(), max_iterations=0)
-    with pytest.raises(InvalidInputError, match="`tolerance`"):
+    with pytest.raises(InvalidInputError,
+                       match=r"Expected `tolerance` to be a number >= 0, got -1"):
         abf(bumpy(), tolerance=-1.0)
 
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
-from tests.algorithms.parameterization.param_meshes import grid
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.parameterization import NotADiskError, arap, asap, conformal, harmonic, tutte
+from tests.algorithms.parameterization.param_meshes import grid
 
 METHODS = [tutte, harmonic, conformal, lambda m: conformal(m, method="spectral"), arap, asap]
 

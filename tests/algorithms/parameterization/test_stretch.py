@@ -8,12 +8,12 @@ import warnings
 
 import numpy as np
 import pytest
-from tests.algorithms.parameterization.param_meshes import bumpy, cap, grid
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.parameterization import NotADiskError, stretch_minimizing, tutte
-from algorithms.parameterization.stretch import face_stretch, l2_stretch
 from algorithms.parameterization._quality import face_frames
+from algorithms.parameterization.stretch import face_stretch, l2_stretch
+from tests.algorithms.parameterization.param_meshes import bumpy, cap, grid
 
 
 def _sander_l2(v: np.ndarray, f: np.ndarray, uv: np.ndarray) -> float:
@@ -102,13 +102,18 @@ def test_not_converging_warns_and_progress_is_called() -> None:
 
 def test_errors() -> None:
     v, f = bumpy(6, 5)
-    with pytest.raises(InvalidInputError, match="`boundary`"):
+    with pytest.raises(InvalidInputError, match="Expected `boundary` to be one of 'circle', "
+                       "'square', got 'hexagon'"):
         stretch_minimizing((v, f), boundary="hexagon")
-    with pytest.raises(InvalidInputError, match="`power`"):
-        stretch_minimizing((v, f), power=0)
-    with pytest.raises(InvalidInputError, match="`max_iterations`"):
+    for power in (0, -1.0, 4.5):
+        with pytest.raises(InvalidInputError, match=r"Expected `power` to be a number > 0 and "
+                           r"<= 4, got"):
+            stretch_minimizing((v, f), power=power)
+    with pytest.raises(InvalidInputError,
+                       match=r"Expected `max_iterations` to be an integer >= 1, got 0\."):
         stretch_minimizing((v, f), max_iterations=0)
-    with pytest.raises(InvalidInputError, match="`tolerance`"):
+    with pytest.raises(InvalidInputError,
+                       match=r"Expected `tolerance` to be a number >= 0, got -1"):
         stretch_minimizing((v, f), tolerance=-1)
     tetra = ([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
              [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])
