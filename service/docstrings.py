@@ -10,7 +10,7 @@ from __future__ import annotations
 import inspect
 import re
 
-__all__ = ["numpydoc_section", "numpydoc_entries", "plain"]
+__all__ = ["numpydoc_section", "numpydoc_entries", "numpydoc_references", "plain"]
 
 
 def numpydoc_section(doc: str | None, title: str) -> dict[str, str]:
@@ -122,3 +122,28 @@ def plain(text: str) -> str:
     text = re.sub(r"``([^`]+)``", r"`\1`", text)
     text = re.sub(r"\s*\[\d+\]_", "", text)  # citations: the process lists its references
     return text.replace("\\ ", "").strip()
+
+
+def numpydoc_references(doc: str | None) -> list[str]:
+    """The entries of a numpydoc ``References`` section (``.. [1] A. Author, "Title", ...``),
+    each joined into one line of plain text, in order."""
+    if not doc:
+        return []
+    lines = inspect.cleandoc(doc).splitlines()
+    try:
+        start = next(i for i, ln in enumerate(lines)
+                     if ln.strip() == "References" and i + 1 < len(lines)
+                     and set(lines[i + 1].strip()) == {"-"})
+    except StopIteration:
+        return []
+    refs: list[list[str]] = []
+    for i, ln in enumerate(lines[start + 2:], start + 2):
+        nxt = lines[i + 1].strip() if i + 1 < len(lines) else ""
+        if ln.strip() and not ln.startswith(" ") and nxt and set(nxt) == {"-"}:
+            break  # the title of the next section
+        m = re.match(r"^\.\. \[[^\]]+\]\s*(.*)$", ln)
+        if m:
+            refs.append([m.group(1).strip()])
+        elif refs and ln.strip():
+            refs[-1].append(ln.strip())
+    return [plain(" ".join(parts)) for parts in refs]

@@ -41,8 +41,6 @@ def _same_dim(p: Any) -> None:
     same_dim(p.source, p.target, names=("source", "target"))
 
 
-_UMEYAMA = ("Umeyama, S. (1991). Least-squares estimation of transformation parameters "
-            "between two point patterns. IEEE TPAMI 13(4), 376–380.")
 
 registry.add(Process(
     id="alignment.rigid",
@@ -53,7 +51,6 @@ registry.add(Process(
     function=rigid,
     examples={"source": _SQUARE, "target": _MOVED},
     check=_paired,
-    reference=_UMEYAMA,
     fast_path=True,
     keywords=("procrustes", "kabsch", "rotation", "correspondences"),
 ))
@@ -68,7 +65,6 @@ registry.add(Process(
     function=similarity,
     examples={"source": _SQUARE, "target": _GROWN},
     check=_paired,
-    reference=_UMEYAMA,
     fast_path=True,
     keywords=("procrustes", "umeyama", "scale", "rotation", "correspondences"),
 ))
@@ -82,8 +78,6 @@ registry.add(Process(
     function=affine,
     examples={"source": _SQUARE, "target": _SHEARED},
     check=_paired,
-    reference="Schaefer, S., McPhail, T., Warren, J. (2006). Image deformation using moving "
-    "least squares. ACM TOG 25(3), 533–540.",
     fast_path=True,
     keywords=("least squares", "affine", "regression", "correspondences"),
 ))
@@ -98,7 +92,6 @@ registry.add(Process(
     function=principal_scaling,
     examples={"source": _WHITE, "target": _STRETCHED},
     check=_paired,
-    reference=_UMEYAMA,
     fast_path=True,
     keywords=("svd", "scaling", "cross-covariance", "correspondences"),
 ))
@@ -113,8 +106,6 @@ registry.add(Process(
     function=homography,
     examples={"source": _UNIT, "target": _PERSPECTIVE},
     check=_paired,
-    reference="Hartley, R., Zisserman, A. (2004). Multiple View Geometry in Computer Vision, "
-    "2nd ed., §4.1–4.4. Cambridge University Press.",
     fast_path=True,
     keywords=("homography", "projective", "dlt", "perspective", "correspondences"),
 ))
@@ -129,7 +120,6 @@ registry.add(Process(
     function=pca,
     examples={"source": _SKEWED, "target": _SKEWED_MOVED},
     check=_same_dim,
-    reference="Ju, T. CSE 554 Lecture 7: Alignment. Washington University in St. Louis.",
     fast_path=True,
     keywords=("pca", "principal axes", "moments", "initial alignment"),
 ))

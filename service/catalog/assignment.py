@@ -16,8 +16,6 @@ from algorithms.core.validation import as_weights, same_dim
 from service.catalog.registry import Process, registry
 
 _EXAMPLES = {"source": [[0.0, 0.0], [1.0, 0.0], [2.0, 0.1]], "target": [[0.1, 0.0], [2.0, 0.0]]}
-_KDTREE = ("Bentley, J. L. (1975). Multidimensional binary search trees used for associative "
-           "searching. CACM 18(9).")
 
 
 def _same_dim(p: Any) -> None:
@@ -47,7 +45,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_same_dim,
     hidden=("workers",),
-    reference=_KDTREE,
     fast_path=True,
     keywords=("nearest neighbour", "kd-tree", "correspondences", "chamfer"),
 ))
@@ -60,7 +57,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_same_dim,
     hidden=("workers",),
-    reference=_KDTREE,
     fast_path=True,
     keywords=("closest pair", "kd-tree", "minimum distance", "clearance"),
 ))
@@ -74,8 +70,6 @@ registry.add(Process(
     function=bipartite,
     examples=_EXAMPLES,
     check=_dense,
-    reference="Crouse, D. F. (2016). On implementing 2D rectangular assignment algorithms. "
-    "IEEE TAES 52(4), 1679–1696.",
     keywords=("hungarian", "linear assignment", "matching", "correspondences"),
 ))
 
@@ -89,8 +83,6 @@ registry.add(Process(
     function=optimal_transport,
     examples=_EXAMPLES,
     check=_transport,
-    reference="Peyré, G. and Cuturi, M. (2019). Computational optimal transport. "
-    "Foundations and Trends in Machine Learning 11(5-6).",
     keywords=("wasserstein", "earth mover", "sinkhorn", "transport plan"),
 ))
 
@@ -104,8 +96,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_same_dim,
     hidden=("workers",),
-    reference="Huttenlocher, D. P., Klanderman, G. A. and Rucklidge, W. J. (1993). "
-    "Comparing images using the Hausdorff distance. IEEE TPAMI 15(9).",
     fast_path=True,
     keywords=("chamfer", "hausdorff", "rmse", "set distance"),
 ))

@@ -55,8 +55,6 @@ registry.add(Process(
     examples={"points": _TWO_GROUPS, "n_clusters": 2, "n_neighbors": 3},
     limits={"n_init": Le(1000)},
     check=_clusters_fit,
-    reference="Ng, A. Y., Jordan, M. I., Weiss, Y. (2001). On spectral clustering: analysis "
-    "and an algorithm. NIPS 14.",
     keywords=("spectral clustering", "normalized cut", "k-means", "graph laplacian",
               "clustering"),
 ))
@@ -74,8 +72,6 @@ registry.add(Process(
     examples={"points": _TWO_GROUPS, "n_neighbors": 3},
     limits={"expansion": Le(10), "inflation": Le(20), "max_iterations": Le(10_000)},
     check=_points_or_graph,
-    reference="van Dongen, S. (2000). Graph clustering by flow simulation. PhD thesis, "
-    "University of Utrecht.",
     long=True,
     keywords=("mcl", "markov clustering", "graph clustering", "community detection",
               "random walk"),

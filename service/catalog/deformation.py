@@ -57,8 +57,6 @@ registry.add(Process(
     function=laplacian,
     examples=_EXAMPLES,
     check=_handles_fit_the_mesh,
-    reference="Lipman, Y., Sorkine, O., Cohen-Or, D., Levin, D., Rössl, C., Seidel, H.-P. "
-    "(2004). Differential coordinates for interactive mesh editing. SMI 2004, 181–190.",
     keywords=("laplacian coordinates", "mesh editing", "handles", "linear"),
 ))
 
@@ -72,8 +70,6 @@ registry.add(Process(
     function=laplacian_editing,
     examples=_EXAMPLES,
     check=_handles_fit_the_mesh,
-    reference="Sorkine, O., Cohen-Or, D., Lipman, Y., Alexa, M., Rössl, C., Seidel, H.-P. "
-    "(2004). Laplacian surface editing. SGP 2004, 175–184.",
     fast_path=True,
     keywords=("laplacian coordinates", "mesh editing", "handles", "similarity"),
 ))
@@ -89,8 +85,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_handles_fit_the_mesh,
     limits={"max_iterations": Le(10_000)},
-    reference="Sorkine, O., Alexa, M. (2007). As-rigid-as-possible surface modeling. "
-    "SGP 2007, 109–116.",
     long=True,
     keywords=("arap", "rigid", "mesh editing", "handles", "local/global"),
 ))
@@ -104,8 +98,6 @@ registry.add(Process(
     function=harmonic,
     examples=_EXAMPLES,
     check=_handles_fit_the_mesh,
-    reference="Botsch, M., Sorkine, O. (2008). On linear variational surface deformation "
-    "methods. IEEE TVCG 14(1), 213–230.",
     fast_path=True,
     keywords=("harmonic", "membrane", "handles", "linear"),
 ))
@@ -120,8 +112,6 @@ registry.add(Process(
     function=biharmonic,
     examples=_EXAMPLES,
     check=_handles_fit_the_mesh,
-    reference="Botsch, M., Kobbelt, L. (2004). An intuitive framework for real-time freeform "
-    "modeling. ACM TOG 23(3), 630–634.",
     fast_path=True,
     keywords=("biharmonic", "thin plate", "handles", "linear"),
 ))
@@ -138,8 +128,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_handles_fit_the_mesh,
     limits={"max_iterations": Le(100_000)},
-    reference="Wang, Y.-S., Tai, C.-L., Sorkine, O., Lee, T.-Y. (2008). Optimized "
-    "scale-and-stretch for image resizing. ACM TOG 27(5), 118.",
     long=True,
     keywords=("scale", "stretch", "resizing", "handles", "local/global"),
 ))
@@ -155,8 +143,6 @@ registry.add(Process(
     examples={"mesh": _TARGET_MESH, "handles": {"indices": [0], "positions": [[0, 0, 0]]},
               "source": _STRIP_VERTICES, "source_deformed": _FOLDED},
     check=_same_connectivity,
-    reference="Sumner, R. W., Popović, J. (2004). Deformation transfer for triangle meshes. "
-    "ACM TOG 23(3), 399–405.",
     fast_path=True,
     keywords=("deformation transfer", "deformation gradient", "retargeting", "handles"),
 ))

@@ -193,8 +193,6 @@ registry.add(Process(
     examples={"source": _SQUARE, "transform": _AFFINE, "times": _TIMES},
     inputs=_SHAPES,
     check=_keeps_orientation,
-    reference="Shoemake, K., Duff, T. (1992). Matrix animation and polar decomposition. "
-    "Graphics Interface '92, 258–264.",
     fast_path=True,
     keywords=("interpolation", "homotopy", "polar decomposition", "slerp", "animation"),
 ))
@@ -210,8 +208,6 @@ registry.add(Process(
     examples={"source": _SQUARE, "transform": _QUARTER, "times": _TIMES},
     inputs=_SHAPES,
     check=_is_rigid,
-    reference="Shoemake, K. (1985). Animating rotation with quaternion curves. SIGGRAPH "
-    "1985, 245–254.",
     fast_path=True,
     keywords=("interpolation", "rigid", "similarity", "slerp", "animation"),
 ))
@@ -227,8 +223,6 @@ registry.add(Process(
     examples={"source": _STRIP, "target": _BENT, "times": _TIMES},
     inputs=_MESHES,
     check=_anchored,
-    reference="Alexa, M., Cohen-Or, D., Levin, D. (2000). As-rigid-as-possible shape "
-    "interpolation. SIGGRAPH 2000, 157–164.",
     long=True,
     keywords=("interpolation", "morphing", "arap", "homotopy", "animation"),
 ))
@@ -244,8 +238,6 @@ registry.add(Process(
     examples={"source": _STRIP, "target": _BENT, "times": _TIMES},
     inputs=_MESHES,
     check=_anchored,
-    reference="Xu, D., Zhang, H., Wang, Q., Bao, H. (2005). Poisson shape interpolation. "
-    "ACM Symposium on Solid and Physical Modeling 2005, 267–274.",
     long=True,
     keywords=("interpolation", "morphing", "poisson", "gradient field", "animation"),
 ))

@@ -206,8 +206,6 @@ registry.add(Process(
     examples={"mesh": _SQUARE},
     inputs={"pins": PinsInput | None},
     check=_pinned,
-    reference="Tutte, W. T. (1963). How to draw a graph. Proc. London Math. Soc. 13, 743–767; "
-    "Floater, M. S. (2003). Mean value coordinates. CAGD 20(1), 19–27.",
     fast_path=True,
     keywords=("tutte embedding", "spring layout", "parameterization", "graph drawing",
               "harmonic map"),
@@ -225,8 +223,6 @@ registry.add(Process(
               "anchors": {"indices": [0], "positions": [[0.0, 0.0]]}},
     inputs={"vectors": Points, "anchors": PinsInput | None, "pins": PinsInput | None},
     check=_edge_vectors,
-    reference="Pérez, P., Gangnet, M., Blake, A. (2003). Poisson image editing. ACM TOG "
-    "22(3), 313–318.",
     fast_path=True,
     keywords=("poisson", "gradient domain", "least squares", "integration", "anchors"),
 ))
@@ -244,9 +240,6 @@ registry.add(Process(
     inputs=_DISTANCE_INPUTS,
     limits={"max_iterations": Le(100_000)},
     check=_distances,
-    reference="Torgerson, W. S. (1952). Multidimensional scaling: I. Theory and method. "
-    "Psychometrika 17; Drineas, P. et al. (2006). Distance matrix reconstruction from "
-    "incomplete distance information for sensor network localization. IEEE SECON.",
     keywords=("mds", "torgerson", "principal coordinates", "matrix completion",
               "localization"),
 ))
@@ -264,8 +257,6 @@ registry.add(Process(
     inputs=_DISTANCE_INPUTS,
     limits={"max_iterations": Le(100_000)},
     check=_distances_and_start,
-    reference="Gansner, E. R., Koren, Y., North, S. (2004). Graph drawing by stress "
-    "majorization. Graph Drawing 2004, LNCS 3383, 239–250.",
     long=True,
     keywords=("smacof", "stress majorization", "metric mds", "graph drawing",
               "kamada-kawai"),

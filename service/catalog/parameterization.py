@@ -29,8 +29,6 @@ _SHEET = {"vertices": [[0, 0, 0], [1, 0, 0.3], [2, 0, 0], [0, 1, 0], [1, 1, 0.5]
                     [4, 5, 8], [4, 8, 7]]}
 _EXAMPLES = {"mesh": _SHEET}
 _REPORTS = " Reports flipped faces, angle distortion and area distortion."
-_LIU = ("Liu, L., Zhang, L., Xu, Y., Gotsman, C., Gortler, S. J. (2008). A local/global "
-        "approach to mesh parameterization. Computer Graphics Forum 27(5), 1495–1504.")
 _UV = ("uv", "texture coordinates")
 
 
@@ -62,8 +60,6 @@ registry.add(Process(
     function=tutte,
     examples=_EXAMPLES,
     check=_disk,
-    reference="Tutte, W. T. (1963). How to draw a graph. Proc. London Math. Soc. 13, 743–767; "
-    "Floater, M. S. (2003). Mean value coordinates. CAGD 20(1), 19–27.",
     fast_path=True,
     keywords=(*_UV, "tutte", "mean value", "flattening"),
 ))
@@ -77,8 +73,6 @@ registry.add(Process(
     function=harmonic,
     examples=_EXAMPLES,
     check=_disk,
-    reference="Eck, M., DeRose, T., Duchamp, T., Hoppe, H., Lounsbery, M., Stuetzle, W. "
-    "(1995). Multiresolution analysis of arbitrary meshes. SIGGRAPH 1995, 173–182.",
     fast_path=True,
     keywords=(*_UV, "harmonic", "cotangent", "flattening"),
 ))
@@ -93,9 +87,6 @@ registry.add(Process(
     function=conformal,
     examples={**_EXAMPLES, "pins": {"indices": [0, 2], "positions": [[0, 0], [2, 0]]}},
     check=_conformal,
-    reference="Lévy, B., Petitjean, S., Ray, N., Maillot, J. (2002). Least squares conformal "
-    "maps for automatic texture atlas generation. SIGGRAPH 2002; Mullen, P., Tong, Y., "
-    "Alliez, P., Desbrun, M. (2008). Spectral conformal parameterization. SGP 2008.",
     keywords=(*_UV, "lscm", "conformal", "spectral", "free boundary"),
 ))
 
@@ -110,7 +101,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_disk,
     limits={"max_iterations": Le(100_000)},
-    reference=_LIU,
     long=True,
     keywords=(*_UV, "arap", "isometric", "local/global"),
 ))
@@ -125,7 +115,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_disk,
     limits={"max_iterations": Le(100_000)},
-    reference=_LIU,
     long=True,
     keywords=(*_UV, "asap", "conformal", "local/global"),
 ))
@@ -143,10 +132,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_disk,
     limits={"max_iterations": Le(10_000)},
-    reference="Yoshizawa, S., Belyaev, A., Seidel, H.-P. (2004). A fast and simple "
-    "stretch-minimizing mesh parameterization. Shape Modeling International 2004, 200–208; "
-    "Sander, P. V., Snyder, J., Gortler, S. J., Hoppe, H. (2001). Texture mapping "
-    "progressive meshes. SIGGRAPH 2001.",
     long=True,
     keywords=(*_UV, "stretch", "texture stretch", "yoshizawa", "sander"),
 ))
@@ -163,10 +148,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_disk,
     limits={"max_iterations": Le(100_000)},
-    reference="Smith, J., Schaefer, S. (2015). Bijective parameterization with free "
-    "boundaries. ACM Trans. Graph. 34(4); Rabinovich, M., Poranne, R., Panozzo, D., "
-    "Sorkine-Hornung, O. (2017). Scalable locally injective mappings. ACM Trans. Graph. "
-    "36(2).",
     long=True,
     keywords=(*_UV, "bijective", "injective", "symmetric dirichlet", "slim", "free boundary"),
 ))
@@ -184,8 +165,6 @@ registry.add(Process(
     examples=_EXAMPLES,
     check=_disk,
     limits={"max_iterations": Le(10_000)},
-    reference="Sheffer, A., Lévy, B., Mogilnitsky, M., Bogomyakov, A. (2005). ABF++: fast and "
-    "robust angle based flattening. ACM Transactions on Graphics 24(2), 311–330.",
     long=True,
     keywords=(*_UV, "abf", "abf++", "angle based flattening", "free boundary"),
 ))

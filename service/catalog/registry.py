@@ -34,7 +34,7 @@ from annotated_types import BaseMetadata, Ge, GroupedMetadata, Gt, Le, Lt
 from pydantic import BaseModel, Field, create_model, model_validator
 
 from algorithms.core.params import Declaration, Kind, declarations
-from service.docstrings import numpydoc_entries, numpydoc_section, plain
+from service.docstrings import numpydoc_entries, numpydoc_references, numpydoc_section, plain
 from service.catalog.base import Params
 
 __all__ = ["Process", "Output", "Registry", "registry", "input_description", "outputs_of",
@@ -233,6 +233,7 @@ class Process:
     """The GLB scene of a result, or None when its results hold no geometry."""
     version: str = "1.0.0"
     reference: str | None = None
+    """Derived: the function's numpydoc References, joined (entries do not restate them)."""
     long: bool = False
     """Long methods run asynchronously when the client states no preference."""
     fast_path: bool = False
@@ -259,6 +260,9 @@ class Process:
             hints = typing.get_type_hints(inspect.unwrap(self.function))
             object.__setattr__(self, "result", hints["return"])
         object.__setattr__(self, "outputs", outputs_of(self.result))
+        if self.reference is None:
+            refs = numpydoc_references(inspect.getdoc(self.function))
+            object.__setattr__(self, "reference", "; ".join(refs) or None)
         decls = declarations(self.function)
         object.__setattr__(self, "kinds", {
             n: d.kind for n, d in decls.items()

@@ -26,7 +26,12 @@ from service.catalog.registry import (
     input_description,
     outputs_of,
 )
-from service.docstrings import numpydoc_entries, numpydoc_section, plain
+from service.docstrings import (
+    numpydoc_entries,
+    numpydoc_references,
+    numpydoc_section,
+    plain,
+)
 from service.diagnostics import diagnostics
 from service.problems import pydantic_errors
 from service.representation import process_description, process_summary
@@ -228,6 +233,8 @@ def test_entry_restates_nothing(p: Process) -> None:
         meta = typing.get_args(hint)[1:] if typing.get_origin(hint) is typing.Annotated else ()
         fields = [m for m in meta if isinstance(m, FieldInfo)]
         assert not fields, f"{p.id}: inputs[{name!r}] carries a Field (default/description)"
+    refs = numpydoc_references(inspect.getdoc(p.function))
+    assert refs and p.reference == "; ".join(refs), f"{p.id}: reference restated"
     decls = declarations(p.function)
     for name in p.limits:
         declared = {(s.minimum, s.maximum) for s in decls[name].scalars}
@@ -264,6 +271,25 @@ def test_plain_text_of_docstrings() -> None:
         "‖R xᵢ - yᵢ‖² with σ̂"
     assert plain(r":math:`R^\mathsf{T} R = I`, :math:`\exp(-d^2/2\sigma^2)`") == \
         "Rᵀ R = I, exp(-d²/2σ²)"
+
+
+def test_numpydoc_references() -> None:
+    doc = """Summary.
+
+    References
+    ----------
+    .. [1] A. Author, "A title on
+       two lines", A Journal 1(2), 2001.
+    .. [2] B. Author, ``code`` in a note.
+
+    Examples
+    --------
+    >>> 1
+    """
+    assert numpydoc_references(doc) == [
+        'A. Author, "A title on two lines", A Journal 1(2), 2001.',
+        "B. Author, `code` in a note."]
+    assert numpydoc_references("Summary only.") == []
 
 
 def test_numpydoc_parameters_with_shared_entries() -> None:
