@@ -1,6 +1,8 @@
 """Unit normals of a 3-D point set: checked when given, estimated by local PCA when not.
 
-Private to the registration family (``icp`` and its plane metrics).
+Private to the registration family (the plane metrics of ``icp``, ``fpfh``, ``ransac``);
+:func:`given_normals`, the check of normals a caller gives, is public as
+``algorithms.registration.given_normals``.
 """
 
 from __future__ import annotations

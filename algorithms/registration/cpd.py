@@ -10,31 +10,24 @@ import warnings
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError
 from algorithms.core.linalg import procrustes
+from algorithms.core.params import Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import (
-    as_bool,
-    as_choice,
-    as_float,
-    as_int,
-    as_points,
-    check_min_points,
-    check_span,
-    same_dim,
-)
+from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 
 __all__ = ["CPDResult", "cpd", "check_sizes", "MODELS", "CHUNK_BYTES", "EXACT_KERNEL_MAX",
            "LOW_RANK_ABOVE"]
 
+Model = Literal["rigid", "affine", "nonrigid"]
 #: The accepted values of ``model``.
-MODELS = ("rigid", "affine", "nonrigid")
+MODELS = get_args(Model)
 
 #: The largest block of the M×N kernel held at once, in bytes: the posterior is never
 #: materialised; it is summed block by block into ``P1``, ``Pᵀ1`` and ``PX``.
@@ -506,7 +499,8 @@ class _Nonrigid:
 # --- the function ----------------------------------------------------------------------------
 
 
-def check_sizes(src: FloatArray, dst: FloatArray, model: str, low_rank: Any) -> int | None:
+def check_sizes(src: FloatArray, dst: FloatArray, model: str, low_rank: int | None
+                ) -> int | None:
     """Check the numbers of points against ``model`` and ``low_rank``; return the number of
     eigenpairs of ``G`` to use (None: the exact kernel, or not nonrigid).
 
@@ -522,7 +516,7 @@ def check_sizes(src: FloatArray, dst: FloatArray, model: str, low_rank: Any) -> 
         return None
     if low_rank is None:
         return math.ceil(math.sqrt(m_pts)) if m_pts > LOW_RANK_ABOVE else None
-    rank = as_int(low_rank, name="low_rank", minimum=1)
+    rank = low_rank  # >= 1: checked by the signature
     if rank < m_pts:
         return rank
     if m_pts > EXACT_KERNEL_MAX:
@@ -533,20 +527,21 @@ def check_sizes(src: FloatArray, dst: FloatArray, model: str, low_rank: Any) -> 
     return None
 
 
+@validate_params
 def cpd(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    model: str = "rigid",
+    model: Model = "rigid",
     scale: bool = True,
-    w: float = 0.0,
-    beta: float = 2.0,
-    alpha: float = 2.0,
-    low_rank: int | None = None,
+    w: Annotated[float, Interval(ge=0, lt=1)] = 0.0,
+    beta: Annotated[float, Gt(0)] = 2.0,
+    alpha: Annotated[float, Gt(0)] = 2.0,
+    low_rank: Annotated[int, Ge(1)] | None = None,
     normalize: bool = True,
-    sigma2: float | None = None,
-    max_iterations: int = 100,
-    tolerance: float = 1e-5,
+    sigma2: Annotated[float, Gt(0)] | None = None,
+    max_iterations: Annotated[int, Ge(1)] = 100,
+    tolerance: Annotated[float, Ge(0)] = 1e-5,
     progress: Progress | None = None,
 ) -> CPDResult:
     r"""Register ``source`` onto ``target`` by coherent point drift; no correspondences.
@@ -587,37 +582,43 @@ def cpd(
     source : (M, d) float array
         The points to move (the mixture's centroids), ``d ≥ 2``.
     target : (N, d) float array
-        The points to register onto, same ``d``; ``N`` need not equal ``M``.
+        The points to register onto, same ``d``; ``N`` need not equal ``M`` and no
+        correspondence with ``source`` is needed.
     model : {"rigid", "affine", "nonrigid"}, default "rigid"
-        The family of maps.
+        The family of maps: ``"rigid"`` a rotation and a translation (and, with ``scale``,
+        a uniform scale); ``"affine"`` any linear map and a translation; ``"nonrigid"`` a
+        smooth displacement of every source point (Gaussian kernel, motion coherence).
     scale : bool, default True
         Rigid only: estimate the uniform scale ``s`` too (a similarity); False keeps
         ``s = 1``.
     w : float in [0, 1), default 0.0
-        The weight of the uniform outlier component (noise and points of one set missing from
-        the other).
+        The weight of the uniform outlier component, ``0 <= w < 1``: raise it for noise and
+        for points of one set missing from the other.
     beta : float > 0, default 2.0
         Nonrigid: the width :math:`\beta` of the Gaussian kernel ``G``; larger is smoother.
-        In the units of the normalised sets when ``normalize`` (see below).
+        In the units of the normalised sets (unit RMS radius) when ``normalize``, else in
+        the points' units.
     alpha : float > 0, default 2.0
         Nonrigid: the regularisation weight :math:`\lambda` of the paper (pycpd's
         ``alpha``); larger keeps the motion closer to a translation.
     low_rank : int >= 1, optional
         Nonrigid: the number ``K`` of leading eigenpairs of ``G`` to use (the paper's fast
         version). Default: the exact kernel up to 1000 source points, else
-        :math:`K = \lceil\sqrt M\,\rceil` (the authors' code's default). A value ``≥ M``
+        ``K = ceil(sqrt(M))`` (the authors' code's default). A value ``≥ M``
         asks for the exact kernel, allowed up to 4000 source points (it takes
         :math:`16M^2` bytes).
     normalize : bool, default True
         Nonrigid: centre each set on its mean and divide it by its RMS radius before
-        registering (as the authors' code), so ``beta``, ``alpha`` and ``sigma2`` need not
-        follow the data's units; ``moved`` is returned in target units. False: ``beta`` is
+        registering (as the authors' code), so ``beta`` and ``alpha`` need not follow the
+        data's units (``sigma2`` stays in squared target units); ``moved`` is returned in
+        target units. False: ``beta`` is
         in the points' own units (as pycpd). Rigid and affine results do not depend on it
         (they are computed on centred sets under one common scale, which they commute
         with).
     sigma2 : float > 0, optional
-        The initial σ², in squared target units. Default: the paper's
-        :math:`\sum_{mn}\lVert x_n - y_m\rVert^2 / dMN`.
+        The initial variance σ² of the mixture, in squared target units. Default: the
+        paper's :math:`\sum_{mn}\lVert x_n - y_m\rVert^2 / dMN`, the mean squared
+        distance of all pairs per dimension.
     max_iterations : int >= 1, default 100
         The most EM iterations.
     tolerance : float >= 0, default 1e-5
@@ -684,8 +685,7 @@ def cpd(
     log-likelihood, up to a constant, is
     :math:`-\sum_n \log(\sum_m e^{-a_{mn}} + c) + \tfrac{Nd}{2}\log\sigma^2`, computed in
     each E-step; the stopping rule compares two successive values, as the authors' code.
-    CPD is a local method: rotations beyond about 60-70° may end in a wrong minimum. The
-    seed document does not treat CPD; nothing here departs from the paper.
+    CPD is a local method: rotations beyond about 60-70° may end in a wrong minimum.
 
     References
     ----------
@@ -711,16 +711,6 @@ def cpd(
     src = as_points(source, name="source", min_dim=2)
     dst = as_points(target, name="target", min_dim=2)
     same_dim(src, dst, names=("source", "target"))
-    model = as_choice(model, MODELS, name="model")
-    with_scale = as_bool(scale, name="scale")
-    w = as_float(w, name="w", minimum=0.0, maximum=1.0, inclusive=(True, False))
-    beta = as_float(beta, name="beta", minimum=0.0, inclusive=False)
-    alpha = as_float(alpha, name="alpha", minimum=0.0, inclusive=False)
-    normalize = as_bool(normalize, name="normalize")
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
-    s2_init = None if sigma2 is None else as_float(sigma2, name="sigma2", minimum=0.0,
-                                                   inclusive=False)
     m_pts, d = src.shape
     n_pts = dst.shape[0]
     rank = check_sizes(src, dst, model, low_rank)
@@ -743,14 +733,14 @@ def cpd(
         beta = beta / sx            # the same kernel in scaled units
         alpha = alpha * sx * sx     # λσ² unchanged
 
-    if s2_init is None:
+    if sigma2 is None:
         # Σ_mn |x_n - y_m|² = M Σ|x|² + N Σ|y|² - 2 (Σx)·(Σy), without the M×N pairs
         sq = (m_pts * float(np.einsum("ij,ij->", x, x))
               + n_pts * float(np.einsum("ij,ij->", y, y))
               - 2.0 * float(x.sum(axis=0) @ y.sum(axis=0))) / (d * m_pts * n_pts)
         s2 = max(sq, SIGMA2_FLOOR)
     else:
-        s2 = s2_init / (sx * sx)
+        s2 = sigma2 / (sx * sx)
     log_w = -math.inf if w == 0.0 else math.log(w / (1.0 - w)) + math.log(m_pts / n_pts)
 
     posterior = _Posterior(x, m_pts, CHUNK_BYTES)
@@ -772,7 +762,7 @@ def cpd(
         previous = objective
         try:
             if model == "rigid":
-                linear, shift, s_est, new_s2 = _rigid_step(x, y, p1, pt1, px, with_scale)
+                linear, shift, s_est, new_s2 = _rigid_step(x, y, p1, pt1, px, scale)
                 ty = y @ linear.T + shift
             elif model == "affine":
                 linear, shift, new_s2 = _affine_step(x, y, p1, pt1, px)
@@ -801,7 +791,8 @@ def cpd(
     dist, _ = tree.query(moved, workers=-1 if m_pts >= 8192 else 1)
     rmse = math.sqrt(float(dist @ dist) / m_pts)
     if not converged:
-        warnings.warn(f"CPD did not converge: {reason}.", ConvergenceWarning, stacklevel=2)
+        warnings.warn(f"CPD did not converge: {reason}.", ConvergenceWarning,
+                      stacklevel=3)  # the caller of the validating wrapper
     if model == "nonrigid":
         return CPDResult(None, None, None, None, None, moved, s2 * sx * sx, rmse, k,
                          converged, reason)

@@ -8,36 +8,31 @@ import itertools
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from algorithms.alignment import affine, pca, rigid, similarity
-from algorithms.core.pairs import rotation_fit, trusted_pairs
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
+from algorithms.core.pairs import rotation_fit, trusted_pairs
+from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import (
-    as_choice,
-    as_float,
-    as_int,
-    as_points,
-    check_min_points,
-    check_span,
-    same_dim,
-)
+from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 from algorithms.registration._normals import estimate_normals, given_normals
 
 __all__ = ["ICPResult", "icp", "MODELS", "METRICS", "KERNELS", "INITS"]
 
+Model = Literal["rigid", "similarity", "affine"]
+Metric = Literal["point_to_point", "point_to_plane", "symmetric"]
+Kernel = Literal["none", "huber", "tukey"]
+Init = Literal["identity", "pca"]
 #: The accepted values of ``model``, ``metric``, ``kernel`` and the named ``init``\ s.
-MODELS = ("rigid", "similarity", "affine")
-METRICS = ("point_to_point", "point_to_plane", "symmetric")
-KERNELS = ("none", "huber", "tukey")
-INITS = ("identity", "pca")
+MODELS, METRICS, KERNELS, INITS = get_args(Model), get_args(Metric), get_args(Kernel), \
+    get_args(Init)
 
 #: Queries of fewer points than this run on one thread (starting threads costs more).
 SERIAL_BELOW = 8192
@@ -53,6 +48,10 @@ PLANARITY_MIN = 1e-8
 ROUNDING_RTOL = 1e-12
 #: How far a given ``init`` may be from its model (orthogonality, last row), relatively.
 INIT_RTOL = 1e-6
+#: The scale of ``init="pca"`` that each model allows.
+_PCA_SCALE: dict[str, Literal["none", "isotropic", "anisotropic"]] = {
+    "rigid": "none", "similarity": "isotropic", "affine": "anisotropic"}
+
 
 @dataclass(frozen=True, eq=False)
 class ICPResult:
@@ -304,22 +303,23 @@ class _Problem:
         return _project(inc @ transform, self.model)
 
 
+@validate_params
 def icp(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    model: str = "rigid",
-    metric: str = "point_to_point",
-    init: Any = "identity",
-    max_iterations: int = 30,
-    tolerance: float = 1e-6,
-    max_correspondence_distance: float | None = None,
-    overlap: float = 1.0,
-    kernel: str = "none",
-    kernel_scale: float | None = None,
-    target_normals: Any = None,
-    source_normals: Any = None,
-    normal_neighbors: int = 10,
+    model: Model = "rigid",
+    metric: Metric = "point_to_point",
+    init: Init | ArrayInput = "identity",
+    max_iterations: Annotated[int, Ge(1)] = 30,
+    tolerance: Annotated[float, Ge(0)] = 1e-6,
+    max_correspondence_distance: Annotated[float, Gt(0)] | None = None,
+    overlap: Annotated[float, Interval(gt=0, le=1)] = 1.0,
+    kernel: Kernel = "none",
+    kernel_scale: Annotated[float, Gt(0)] | None = None,
+    target_normals: PointsLike | None = None,
+    source_normals: PointsLike | None = None,
+    normal_neighbors: Annotated[int, Ge(2)] = 10,
     progress: Progress | None = None,
 ) -> ICPResult:
     r"""Register ``source`` onto ``target`` by iterative closest point; no correspondences.
@@ -357,24 +357,30 @@ def icp(
     source : (n, d) float array
         The points to move, ``d >= 2`` (``d = 3`` for the plane metrics).
     target : (m, d) float array
-        The points to register onto; any size ``m``.
+        The points to register onto, the same ``d``, any size ``m``; no correspondence
+        with ``source`` is needed.
     model : {"rigid", "similarity", "affine"}, default "rigid"
-        The transform: rotation and translation; also a uniform scale; any affine map.
+        The transform: ``"rigid"`` a rotation and a translation, ``"similarity"`` also a
+        uniform scale, ``"affine"`` any linear map and a translation.
     metric : {"point_to_point", "point_to_plane", "symmetric"}, default "point_to_point"
-        The distance minimised (above). The plane metrics need 3-D points; ``symmetric``
-        needs ``model="rigid"``.
+        The distance minimised: ``"point_to_point"`` from each moved source point to its
+        partner (any ``d``); ``"point_to_plane"`` to the partner's tangent plane (3-D;
+        target normals estimated when not given); ``"symmetric"`` along the sum of both
+        points' normals, Rusinkiewicz's objective (3-D, ``model="rigid"`` only).
     init : {"identity", "pca"} or (d+1, d+1) float array, default "identity"
-        The initial transform. ``"pca"`` lays the principal axes onto each other
-        (:func:`algorithms.alignment.pca`, scaled as the model allows), runs ICP from every
-        proper sign choice of the axes (:math:`2^{d-1}`) and keeps the result of highest
-        fitness, then lowest RMSE. A matrix must have the last row ``(0, ..., 0, 1)`` and a
-        linear part of the model (orthogonal with determinant +1 for rigid, a positive
-        multiple of one for similarity, invertible for affine).
+        The initial transform: ``"identity"``, ``"pca"`` or a homogeneous matrix.
+        ``"pca"`` lays the principal axes onto each other (:func:`algorithms.alignment.pca`,
+        scaled as the model allows), runs ICP from every proper sign choice of the axes
+        (``2^(d-1)``: 4 in 3-D) and keeps the result of highest fitness, then lowest RMSE.
+        A matrix must have the last row ``(0, ..., 0, 1)`` and a linear part of the model
+        (orthogonal with determinant +1 for rigid, a positive multiple of one for
+        similarity, invertible for affine).
     max_iterations : int, default 30
         Most iterations (fits) to run, ``>= 1``; per sign choice with ``init="pca"``.
     tolerance : float, default 1e-6
-        Stop when :math:`|e_{k-1} - e_k| / e_{k-1} <` ``tolerance`` for the RMSE :math:`e_k`
-        after iteration ``k``; 0 stops only at a fixed point or ``max_iterations``.
+        Stop when the RMSE changes by less than this fraction of its previous value in an
+        iteration, ``>= 0``; the iterations also stop when the correspondences no longer
+        change, so 0 stops only there or at ``max_iterations``.
     max_correspondence_distance : float, optional
         Pairs farther apart than this (``> 0``) are ignored in the fit and in ``rmse`` and
         do not count towards ``fitness``. No bound when omitted.
@@ -382,10 +388,10 @@ def icp(
         Trimmed ICP (Chetverikov et al. 2002): keep only the ``ceil(overlap * n)`` pairs of
         smallest distance, ``0 < overlap <= 1``.
     kernel : {"none", "huber", "tukey"}, default "none"
-        Robust kernel, applied by iteratively reweighted least squares: Huber weights
-        :math:`\min(1, k/|r|)`, Tukey's biweight :math:`(1 - (r/c)^2)^2` for
-        :math:`|r| < c`, else 0; ``r`` is the pair's distance (point-to-point) or its
-        plane distance.
+        Robust kernel, applied by iteratively reweighted least squares: ``"none"`` plain
+        least squares, ``"huber"`` weights :math:`\min(1, k/|r|)`, ``"tukey"`` the
+        biweight :math:`(1 - (r/c)^2)^2` for :math:`|r| < c`, else 0; ``r`` is the pair's
+        distance (point-to-point) or its plane distance.
     kernel_scale : float, optional
         The kernel's threshold ``k`` or ``c`` in the points' units (``> 0``). Omitted: each
         iteration estimates it as :math:`1.345\,\hat\sigma` (Huber) or :math:`4.685\,\hat\sigma`
@@ -395,10 +401,12 @@ def icp(
         Estimated when omitted: the smallest principal axis of each point's
         ``normal_neighbors`` nearest neighbours.
     source_normals : (n, 3) float array, optional
-        Normals of the source points for ``metric="symmetric"`` (estimated likewise when
-        omitted); their signs are matched to the target's pair by pair.
+        Normals of the source points for ``metric="symmetric"``, their signs matched to the
+        target's pair by pair (checked but unused with the other metrics). Estimated when
+        omitted: the smallest principal axis of each point's ``normal_neighbors`` nearest
+        neighbours.
     normal_neighbors : int, default 10
-        Neighbours per normal estimate, ``>= 2``.
+        Neighbours per estimated normal, ``>= 2``.
     progress : callable, optional
         ``progress(done, total, message)`` after every iteration; it may raise
         :class:`~algorithms.core.errors.Cancelled`, which propagates.
@@ -438,21 +446,25 @@ def icp(
     all Tukey weights zero), the iterations stop with ``converged=False``, the last
     well-determined transform and a ``reason`` saying which; ``fitness`` shows the overlap.
 
-    **What the seed says, and what is done here.** The seed document's ICP initialises by
-    correlation alignment (PCA), repeats nearest-neighbour assignment and alignment "until
-    the nearest points no longer change", and composes the transforms of all iterations.
-    All three are kept: ``init="pca"``; the unchanged-assignment rule (with Besl & McKay's
-    relative-error rule beside it, needed once trimming, kernels or the linearised plane
-    steps make a fixed point of the pairs no fixed point of the transform); and the
-    composition, which for point-to-point is computed as one fit from the original
-    points to the current partners (the same minimiser, since each model is a group, with
-    no accumulated rounding) and for the plane metrics literally, increment after
-    increment. The seed's unoriented PCA asks for the sign choice "of the smallest trace",
-    meaning the smallest angle; :func:`~algorithms.alignment.pca` explains that this is
-    the *largest* trace, and here every sign choice is run through ICP anyway. The seed
-    calls ICP "really steepest descent"; more exactly it is block-coordinate descent
-    (majorise-minimise): each half-step minimises exactly, so without trimming, kernels
-    or linearisation the RMSE never increases (Besl & McKay, Theorem 1).
+    **Stopping and composition.** The iterations stop when the nearest points no longer
+    change (a fixed point of the pairs) or, by Besl & McKay's rule, when the RMSE changes
+    by less than ``tolerance``: the second rule is needed once trimming, kernels or the
+    linearised plane steps make a fixed point of the pairs no fixed point of the
+    transform. The transform is the composition of all iterations' steps; for
+    point-to-point it is computed as one fit from the original points to the current
+    partners (the same minimiser, since each model is a group, with no accumulated
+    rounding), for the plane metrics increment after increment.
+
+    **The PCA start.** ``init="pca"`` picks no sign choice of the principal axes by a rule
+    on the axes: every proper one is run through ICP and the best result kept. (The rule
+    "the sign choice of smallest rotation angle" keeps the *largest* trace, since
+    :math:`\operatorname{tr} R = 1 + 2\cos\theta` in 3-D; see
+    :func:`~algorithms.alignment.pca`.)
+
+    **Not steepest descent.** ICP is block-coordinate descent (majorise-minimise) over the
+    pairs and the transform, not a gradient method: each half-step minimises exactly, so
+    without trimming, kernels or linearisation the RMSE never increases (Besl & McKay,
+    Theorem 1).
 
     **Symmetric step.** Following Rusinkiewicz (2019), the linearised unknowns are
     :math:`\tilde a = a \tan\theta` and :math:`\tilde t = t / \cos\theta`; the update is
@@ -479,7 +491,6 @@ def icp(
        2019.
     .. [5] Q.-Y. Zhou, J. Park and V. Koltun, "Open3D: a modern library for 3D data
        processing", arXiv:1801.09847, 2018 (``fitness`` and ``inlier_rmse``).
-    .. [6] The seed document, section "iterative closest point".
 
     Examples
     --------
@@ -498,9 +509,6 @@ def icp(
     src = as_points(source, name="source", min_dim=2)
     dst = as_points(target, name="target")
     same_dim(src, dst, names=("source", "target"))
-    model = as_choice(model, MODELS, name="model")
-    metric = as_choice(metric, METRICS, name="metric")
-    kernel = as_choice(kernel, KERNELS, name="kernel")
     d = src.shape[1]
     if metric != "point_to_point" and d != 3:
         raise InvalidInputError(
@@ -510,19 +518,6 @@ def icp(
         raise InvalidInputError(
             f"Expected model='rigid' with metric='symmetric', got {model!r}; use "
             "metric='point_to_plane' or 'point_to_point' for the other models.", field="model")
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    tolerance = as_float(tolerance, name="tolerance", minimum=0.0)
-    max_dist = None
-    if max_correspondence_distance is not None:
-        max_dist = as_float(max_correspondence_distance, name="max_correspondence_distance",
-                            minimum=0.0, inclusive=False)
-    overlap = as_float(overlap, name="overlap", minimum=0.0, maximum=1.0,
-                       inclusive=(False, True))
-    scale_k = None
-    if kernel_scale is not None:
-        scale_k = as_float(kernel_scale, name="kernel_scale", minimum=0.0, inclusive=False)
-    normal_neighbors = as_int(normal_neighbors, name="normal_neighbors", minimum=2)
-
     min_pairs, why = _min_pairs(model, metric, d)
     check_min_points(src, min_pairs, name="source", reason=why)
     check_min_points(dst, min_pairs if metric == "point_to_point" else d + 1, name="target",
@@ -534,9 +529,8 @@ def icp(
     check_span(src, "source", need, span_why)
     t_normals = None if target_normals is None else given_normals(
         target_normals, dst.shape[0], name="target_normals")
-    s_normals = None
-    if metric == "symmetric" and source_normals is not None:
-        s_normals = given_normals(source_normals, src.shape[0], name="source_normals")
+    s_normals = None if source_normals is None else given_normals(
+        source_normals, src.shape[0], name="source_normals")
     if metric != "point_to_point" and t_normals is None:
         check_span(dst, "target", 3, f"metric={metric!r} without `target_normals` leaves "
                     "the motion within their plane undetermined (every estimated normal is "
@@ -545,9 +539,10 @@ def icp(
         check_span(dst, "target", need, span_why)
 
     starts = _initial_transforms(init, src, dst, model)
-    prob = _Problem(src, dst, model=model, metric=metric, kernel=kernel, kernel_scale=scale_k,
-                    max_dist=max_dist, overlap=overlap, min_pairs=min_pairs,
-                    target_normals=t_normals, source_normals=s_normals,
+    prob = _Problem(src, dst, model=model, metric=metric, kernel=kernel,
+                    kernel_scale=kernel_scale, max_dist=max_correspondence_distance,
+                    overlap=overlap, min_pairs=min_pairs, target_normals=t_normals,
+                    source_normals=s_normals if metric == "symmetric" else None,
                     normal_neighbors=normal_neighbors)
     total = len(starts) * max_iterations
     best: _Run | None = None
@@ -559,7 +554,7 @@ def icp(
     assert best is not None
     if not best.converged:
         warnings.warn(f"ICP did not converge: {best.reason}.", ConvergenceWarning,
-                      stacklevel=2)
+                      stacklevel=3)  # the caller of the validating wrapper
     return _result(best, prob.n, model)
 
 
@@ -579,12 +574,10 @@ def _min_pairs(model: str, metric: str, d: int) -> tuple[int, str]:
 def _initial_transforms(init: Any, src: FloatArray, dst: FloatArray, model: str
                         ) -> list[FloatArray]:
     d = src.shape[1]
-    if isinstance(init, str):
-        init = as_choice(init, INITS, name="init")
+    if isinstance(init, str):  # one of INITS: checked by the signature
         if init == "identity":
             return [np.eye(d + 1)]
-        scale = {"rigid": "none", "similarity": "isotropic", "affine": "anisotropic"}[model]
-        res = pca(src, dst, mode="unoriented", scale=scale)
+        res = pca(src, dst, mode="unoriented", scale=_PCA_SCALE[model])
         x_axes = res.axes                      # source axes with pca's chosen signs
         y_axes = res.rotation @ x_axes         # the target axes they are laid onto
         x_mean, y_mean = src.mean(axis=0), dst.mean(axis=0)

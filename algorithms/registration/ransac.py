@@ -1,6 +1,6 @@
 """RANSAC global registration: a rigid transform from ``source`` to ``target`` without a
-start, from sampled correspondences (FPFH feature matches, or the seed's random point
-triples), refined by ICP."""
+start, from sampled correspondences (FPFH feature matches, or random point triples of
+each set), refined by ICP."""
 
 from __future__ import annotations
 
@@ -8,26 +8,18 @@ import heapq
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.core.linalg import RANK_RTOL, numerical_rank, procrustes
+from algorithms.core.params import Ge, Gt, Interval, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray, IntArray, RngLike
-from algorithms.core.validation import (
-    as_bool,
-    as_choice,
-    as_float,
-    as_int,
-    as_points,
-    check_min_points,
-    check_span,
-    same_dim,
-)
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 from algorithms.registration._normals import estimate_normals
 from algorithms.registration.features import (
     MIN_FEATURE_POINTS,
@@ -37,12 +29,13 @@ from algorithms.registration.features import (
     point_spacing,
     voxel_downsample,
 )
-from algorithms.registration.icp import icp
+from algorithms.registration.icp import Metric, icp
 
 __all__ = ["RANSACResult", "ransac", "check_inputs", "FEATURES"]
 
+Features = Literal["fpfh", "none"]
 #: The accepted values of ``features``.
-FEATURES = ("fpfh", "none")
+FEATURES = get_args(Features)
 #: Open3D's ``CorrespondenceCheckerBasedOnEdgeLength(0.9)``: every edge of the sample and
 #: its image may differ by at most this factor.
 EDGE_SIMILARITY = 0.9
@@ -169,19 +162,20 @@ class _Best:
     number: int  # 1-based number of the hypothesis
 
 
+@validate_params
 def ransac(
-    source: Any,
-    target: Any,
+    source: PointsLike,
+    target: PointsLike,
     *,
-    features: str = "fpfh",
-    voxel_size: float | None = None,
-    feature_radius: float | None = None,
-    max_correspondence_distance: float | None = None,
-    max_iterations: int = 100_000,
-    confidence: float = 0.999,
+    features: Features = "fpfh",
+    voxel_size: Annotated[float, Gt(0)] | None = None,
+    feature_radius: Annotated[float, Gt(0)] | None = None,
+    max_correspondence_distance: Annotated[float, Gt(0)] | None = None,
+    max_iterations: Annotated[int, Ge(1)] = 100_000,
+    confidence: Annotated[float, Interval(gt=0, le=1)] = 0.999,
     mutual_filter: bool = True,
     refine: bool = True,
-    seed: RngLike = 0,
+    seed: Seed = 0,
     progress: Progress | None = None,
 ) -> RANSACResult:
     r"""Register ``source`` onto ``target`` rigidly without a start: random sample consensus
@@ -197,8 +191,8 @@ def ransac(
     2. **Candidates.** ``features="fpfh"`` (3-D): FPFH descriptors of both sets
        (:func:`~algorithms.registration.fpfh`, radius ``feature_radius``), matched by
        nearest neighbour in feature space, mutually with ``mutual_filter``.
-       ``features="none"``: the seed's method, every (source point, target point) pair is
-       a candidate and samples are drawn from each set independently.
+       ``features="none"``: every (source point, target point) pair is a candidate and
+       samples are drawn from each set independently (see Notes).
     3. **Hypotheses.** Each draws :math:`s = \max(3, d)` candidate pairs with the seeded
        generator and is skipped unless every edge of the sample and of its image agree
        within a factor 0.9 (Open3D's edge-length checker) and the sample is not nearly
@@ -241,37 +235,46 @@ def ransac(
     source : (n, d) float array
         The points to move; ``d = 3`` with features, any ``d >= 2`` without.
     target : (m, d) float array
-        The points to register onto; any size ``m``; the overlap may be partial.
+        The points to register onto, same ``d``, any size ``m``; the overlap may be
+        partial. No correspondence with ``source`` and no start are needed.
     features : {"fpfh", "none"}, default "fpfh"
-        Where candidate pairs come from (above). ``"none"`` needs no local structure but
-        finds an all-inlier sample with probability about :math:`(k/nm)^3` per hypothesis
-        (``k`` overlapping points): it is for small sets, tens of points.
+        Where candidate pairs come from: ``"fpfh"`` (3-D) from Fast Point Feature
+        Histograms matched between the sets; ``"none"`` every pair of a source and a target
+        point, samples of point triples drawn from each set at random. ``"none"`` needs no
+        local structure but finds an all-inlier sample with probability about
+        :math:`(k/nm)^3` per hypothesis (``k`` overlapping points): it is for small sets,
+        tens of points.
     voxel_size : float, optional
         Down-sample both sets on a grid of this step first (``> 0``); also the length
         scale of the default radii; one pass of Open3D's pipeline (normals of 10
         neighbours). Noisy scans need a voxel several times the noise. When omitted with
-        features: the two passes above at 1.5 and 3 × the source's point spacing (median
-        distance to the 4th nearest neighbour, :func:`~.features.point_spacing`), with
-        normals of 30 neighbours; without features: no down-sampling, the scale is the
-        point spacing.
+        features: two passes, at 1.5 and 3 × the source's point spacing (median distance
+        to the 4th nearest neighbour, :func:`~.features.point_spacing`), with normals of
+        30 neighbours, and the best-fitting pose wins; without features: no
+        down-sampling, the scale is the point spacing.
     feature_radius : float, optional
-        FPFH neighbourhood radius (``> 0``); 5 × the scale when omitted.
+        FPFH neighbourhood radius (``> 0``). Omitted: 5 × the length scale, the voxel step
+        of the pass (``voxel_size`` or a default pass's) or, without down-sampling, the
+        source's point spacing.
     max_correspondence_distance : float, optional
         The inlier threshold :math:`\tau` (``> 0``) of scoring, checking, refinement and
-        the reported ``fitness``; 1.5 × the scale when omitted, except with
+        the reported ``fitness``. Omitted: 1.5 × the length scale (the voxel step, or the
+        source's point spacing without down-sampling), except with
         ``features="none"`` and no ``voxel_size``: half the median distance from a source
         point to its nearest neighbour (so that a point's partner is unambiguous).
     max_iterations : int, default 100000
-        Most hypotheses to draw (``>= 1``), Open3D's default.
+        Most hypotheses (samples) to draw, ``>= 1``; the default is Open3D's.
     confidence : float, default 0.999
-        The probability of having drawn an all-inlier sample at which to stop,
-        ``0 < confidence <= 1`` (1 never stops early).
+        Stop once an all-inlier sample has been drawn with this probability (estimated
+        from the best inlier ratio), ``0 < confidence <= 1``; 1 never stops early.
     mutual_filter : bool, default True
         Keep only mutual nearest neighbours in feature space; falls back to the one-sided
         matches when fewer than 9 remain (as Open3D). False: each point's nearest
         neighbour in feature space, from both sets (each pair once).
     refine : bool, default True
-        Refine with ICP (step 5).
+        Refine the RANSAC transform with ICP (point-to-plane in 3-D when the target has
+        enough points, else point-to-point), kept only when it lowers the truncated
+        error.
     seed : int or numpy.random.Generator, default 0
         Seeds the sampling; the same seed gives the same result, bit for bit (no step
         depends on the number of threads).
@@ -305,14 +308,15 @@ def ransac(
 
     Notes
     -----
-    **The seed's RANSAC, and what is added.** The seed document picks a few points of each
-    set at random, "assumes they correspond in order", aligns them, measures the error of
-    the aligned sets and keeps the smallest error over many repetitions, "really random
-    exhaustive search". ``features="none"`` is exactly that, with the error truncated at
-    :math:`\tau` (so that points outside the overlap cannot dominate it: MSAC) and with the
-    edge-length and distance checks, which reject most non-congruent samples before any
-    scoring. Exhaustive search of point triples costs :math:`O(n^3 m^3)`, so on real scans
-    candidates come from local features instead, as in Open3D (``features="fpfh"``).
+    **RANSAC without features.** ``features="none"`` is RANSAC in its plainest form for
+    registration: pick ``s`` points of each set at random, take them to correspond in
+    order, fit the rigid motion, measure the error of the moved source against the target,
+    and keep the least error over many draws, a random search of the :math:`O(n^3 m^3)`
+    pairs of triples. Two things are added: the error is truncated at :math:`\tau` (so
+    that points outside the overlap cannot dominate it: MSAC), and the edge-length and
+    distance checks reject most non-congruent samples before any scoring. On real scans
+    that search is hopeless, so candidates come from local features instead, as in Open3D
+    (``features="fpfh"``).
 
     **Never a silent identity.** When no hypothesis passes the checks, when the best has
     fewer than 6 inliers, or when the confidence was not reached within
@@ -344,7 +348,6 @@ def ransac(
        3D registration", ICRA 2009.
     .. [4] Q.-Y. Zhou, J. Park and V. Koltun, "Open3D: a modern library for 3D data
        processing", arXiv:1801.09847, 2018 (checkers, fitness, stopping rule).
-    .. [5] The seed document, section "inlier / outlier", algorithm (RANSAC).
 
     Examples
     --------
@@ -364,20 +367,8 @@ def ransac(
     src = as_points(source, name="source", min_dim=2)
     dst = as_points(target, name="target")
     same_dim(src, dst, names=("source", "target"))
-    features = as_choice(features, FEATURES, name="features")
     d = src.shape[1]
-    voxel = None if voxel_size is None else as_float(
-        voxel_size, name="voxel_size", minimum=0.0, inclusive=False)
-    radius = None if feature_radius is None else as_float(
-        feature_radius, name="feature_radius", minimum=0.0, inclusive=False)
-    tau = None if max_correspondence_distance is None else as_float(
-        max_correspondence_distance, name="max_correspondence_distance", minimum=0.0,
-        inclusive=False)
-    max_iterations = as_int(max_iterations, name="max_iterations", minimum=1)
-    confidence = as_float(confidence, name="confidence", minimum=0.0, maximum=1.0,
-                          inclusive=(False, True))
-    mutual_filter = as_bool(mutual_filter, name="mutual_filter")
-    refine = as_bool(refine, name="refine")
+    voxel, radius, tau = voxel_size, feature_radius, max_correspondence_distance
     s, need = check_inputs(src, dst, features)
     rng = np.random.default_rng(seed)
 
@@ -454,7 +445,8 @@ def ransac(
     inl = dist[dist <= tau]
     rmse = math.sqrt(float(inl @ inl) / inl.size) if inl.size else 0.0
     if not converged:
-        warnings.warn(f"RANSAC did not converge: {reason}.", ConvergenceWarning, stacklevel=2)
+        warnings.warn(f"RANSAC did not converge: {reason}.", ConvergenceWarning,
+                      stacklevel=3)  # the caller of the validating wrapper
     return RANSACResult(
         transform=transform,
         rotation=transform[:d, :d].copy(),
@@ -625,7 +617,8 @@ def _polish(pts: FloatArray, dst: FloatArray, tree: cKDTree, start: FloatArray, 
     fewer than 30 points) with Tukey's kernel (scale from the residuals' median), so that
     the points outside the overlap, and the noise, do not pull the pose; kept when it
     lowers the truncated point error at ``tau_sel``."""
-    metric, normals = "point_to_point", None
+    metric: Metric = "point_to_point"
+    normals = None
     if dst.shape[0] >= PLANE_MIN_POINTS:
         centred = dst - dst.mean(axis=0)
         var = np.linalg.eigvalsh(centred.T @ centred / len(dst))[::-1]
@@ -876,7 +869,7 @@ def _refine(src: FloatArray, t_pts: FloatArray, t_normals: FloatArray | None,
     d = src.shape[1]
     pts = src if src.shape[0] <= REFINE_POINTS else \
         src[np.sort(rng.choice(src.shape[0], REFINE_POINTS, replace=False))]
-    metric = "point_to_point"
+    metric: Metric = "point_to_point"
     if d == 3 and pts.shape[0] >= 6 and t_pts.shape[0] >= PLANE_MIN_POINTS:
         centred = t_pts - t_pts.mean(axis=0)
         var = np.linalg.eigvalsh(centred.T @ centred / len(t_pts))[::-1]

@@ -13,6 +13,7 @@ import warnings
 import numpy as np
 import pytest
 from scipy.linalg import expm
+from scipy.spatial.transform import Rotation
 from scipy.special import logsumexp, softmax
 
 from algorithms.core import Cancelled, ConvergenceWarning, DegenerateInputError, InvalidInputError
@@ -21,6 +22,7 @@ from algorithms.registration.cpd import _kernel, _low_rank, _Posterior
 
 cpd_mod = sys.modules["algorithms.registration.cpd"]
 
+from tests.algorithms.registration._real_meshes import real_mesh
 from tests.algorithms.registration._shapes import angle_deg, bent_bar, blob, move, rotation_about
 
 
@@ -414,3 +416,16 @@ def test_agrees_with_pycpd_nonrigid():
     moved, _ = peer.register()
     np.testing.assert_allclose(ours.moved, moved, atol=1e-8)
     assert ours.sigma2 == pytest.approx(peer.sigma2, rel=1e-7)
+
+
+# --- real meshes (pyvista's PLY files) ------------------------------------------------------
+
+
+def test_cpd_rigid_recovers_scale_and_rotation_of_the_ant() -> None:
+    src = np.asarray(real_mesh("ant.ply").vertices, dtype=np.float64)
+    src = (src - src.mean(axis=0)) / np.linalg.norm(np.ptp(src, axis=0))
+    rot = Rotation.from_euler("zyx", [35, -20, 15], degrees=True)
+    dst = 1.4 * rot.apply(src) + [0.2, -0.1, 0.3]
+    res = cpd(src, dst, model="rigid")
+    assert res.scale == pytest.approx(1.4, rel=1e-4)
+    assert angle_deg(res.rotation, rot.as_matrix()) < 0.05

@@ -20,7 +20,6 @@ from algorithms.registration.features import (
     point_spacing,
     voxel_downsample,
 )
-
 from tests.algorithms.registration._shapes import blob, move, random_rotation
 
 

@@ -1,6 +1,7 @@
 """Tests for registration.icp: hand cases, recovery on generated asymmetric shapes (every
 metric, model and start), robustness (trimming, kernels), the degenerate cases that must not
-pass as success, and agreement with trimesh's ICP iteration by iteration."""
+pass as success, agreement with trimesh's ICP iteration by iteration, and real meshes
+(pyvista's airplane, ant and nut)."""
 
 from __future__ import annotations
 
@@ -9,10 +10,11 @@ import warnings
 import numpy as np
 import pytest
 import trimesh
+from scipy.spatial.transform import Rotation
 
 from algorithms.core import Cancelled, ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.registration import ICPResult, icp
-
+from tests.algorithms.registration._real_meshes import surface_points
 from tests.algorithms.registration._shapes import (
     angle_deg,
     bent_bar,
@@ -327,6 +329,7 @@ def test_all_weights_zero_stops_with_a_reason():
     ({"metric": "point_to_plane", "target_normals": np.zeros((8, 3))}, "target_normals",
      "non-zero"),
     ({"metric": "symmetric", "source_normals": np.ones((8, 2))}, "source_normals", "(n, 3)"),
+    ({"source_normals": np.ones((5, 3))}, "source_normals", "one normal per `source` point"),
     ({"target": [[0.0, 0.0]] * 8}, "target", "same dimension"),
     ({"source": [[0.0, np.nan, 0.0]] + [[1.0, 2.0, 3.0]] * 7}, "source", "row 0"),
 ])
@@ -359,3 +362,24 @@ def test_agrees_with_trimesh_iteration_by_iteration(iterations):
                                             scale=False)
     ours = quiet(src, dst, max_iterations=iterations, tolerance=0.0)
     np.testing.assert_allclose(ours.transform, theirs, atol=1e-10)
+
+
+# --- real meshes (pyvista's PLY files) ------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["airplane.ply", "ant.ply", "nut.ply"])
+def test_icp_recovers_a_20_degree_turn_of_a_real_shape(name: str) -> None:
+    src = surface_points(name, 2000, 0)
+    rot = Rotation.from_rotvec(np.radians(20) * np.array([1.0, -2.0, 0.5]) / np.sqrt(5.25))
+    dst = rot.apply(src) + [0.05, -0.02, 0.03]
+    res = icp(src, dst, metric="point_to_plane", max_iterations=100)
+    assert res.converged, res.reason
+    assert angle_deg(res.rotation, rot.as_matrix()) < 0.1
+
+
+def test_icp_with_pca_init_finds_any_turn_of_the_ant() -> None:
+    src = surface_points("ant.ply", 1500, 1)
+    rot = Rotation.from_euler("xyz", [150, -60, 110], degrees=True)
+    dst = rot.apply(src) + [0.3, 0.1, -0.2]
+    res = icp(src, dst, init="pca", max_iterations=60)
+    assert angle_deg(res.rotation, rot.as_matrix()) < 0.1
