@@ -1,10 +1,13 @@
 """Classification: labelled points in, a discriminating projection and class predictions out.
 
 * :func:`lda` — Fisher's linear discriminant analysis (closed form);
-* :func:`nca` — neighbourhood components analysis (gradient-based).
+* :func:`nca` — neighbourhood components analysis (gradient-based);
+* :func:`as_labels` — the check of one class label per point both use (the service checks
+  requests with it before they are queued).
 """
 
+from algorithms.classification._common import as_labels
 from algorithms.classification.lda import LDAResult, lda
 from algorithms.classification.nca import NCAResult, nca
 
-__all__ = ["LDAResult", "lda", "NCAResult", "nca"]
+__all__ = ["LDAResult", "lda", "NCAResult", "nca", "as_labels"]

@@ -4,16 +4,17 @@ apart relative to the spread within classes, and the Gaussian classifier that go
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import scipy.linalg as la
 
 from algorithms.classification._common import as_labels
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.params import Ge, LabelsLike, PointsLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_int, as_points, same_dim
-from algorithms.embedding._quality import trustworthiness
+from algorithms.embedding import trustworthiness
 
 __all__ = ["LDAResult", "lda"]
 
@@ -36,7 +37,8 @@ class LDAResult:
     mean : (d,) float array
         The centre subtracted before projecting (the prior-weighted mean of the class means).
     classes : (c,) list
-        The distinct labels (integers or strings), sorted; class ``i`` of ``predictions`` is ``classes[i]``.
+        The distinct labels (integers or strings), sorted; class ``i`` of ``predictions``
+        is ``classes[i]``.
     class_means : (c, d) float array
         The mean of each class, in the order of ``classes``.
     predictions : (n,) list
@@ -67,8 +69,14 @@ class LDAResult:
     trustworthiness: float
 
 
-def lda(points: Any, labels: Any, *, n_components: int | None = None,
-        query: Any = None) -> LDAResult:
+@validate_params
+def lda(
+    points: PointsLike,
+    labels: LabelsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] | None = None,
+    query: PointsLike | None = None,
+) -> LDAResult:
     r"""Fit Fisher's linear discriminant on labelled points; project and classify.
 
     The discriminant directions :math:`a` maximise the ratio of between-class to
@@ -95,13 +103,15 @@ def lda(points: Any, labels: Any, *, n_components: int | None = None,
     Parameters
     ----------
     points : (n, d) float array
+        The training points, one row per point; more points than classes, at least 3.
     labels : (n,) int or str array
-        The class of each point; at least 2 classes.
+        The class of each point (integers or strings); at least 2 classes.
     n_components : int, optional
-        The number ``k`` of directions, ``1 <= k <= min(c - 1, d)``; that maximum by
-        default.
+        The number ``k`` of discriminant directions, ``1 <= k <= min(c - 1, d)`` for
+        ``c`` classes; that maximum when omitted.
     query : (m, d) float array, optional
-        Points to project and classify with the fitted model.
+        Points to project and classify with the fitted model; none when omitted (the
+        query outputs are then empty).
 
     Returns
     -------
@@ -121,10 +131,10 @@ def lda(points: Any, labels: Any, *, n_components: int | None = None,
 
     Notes
     -----
-    The seed document describes the method as principal component analysis's idea applied
-    to classes: find a line on which the variance of the class means is as large as
-    possible (classes spread apart) and each class's own variance as small as possible
-    (classes gather). The ratio above is that criterion.
+    LDA is principal component analysis's idea applied to classes: find a line on which
+    the variance of the class means is as large as possible (classes spread apart) and
+    each class's own variance as small as possible (classes gather). The ratio above is
+    that criterion.
 
     References
     ----------

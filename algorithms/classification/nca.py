@@ -3,9 +3,10 @@ neighbour classifier is most often right."""
 
 from __future__ import annotations
 
+import typing
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import scipy.linalg as la
@@ -13,15 +14,18 @@ from scipy.optimize import minimize
 
 from algorithms.classification._common import as_labels, fix_signs
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.params import Ge, LabelsLike, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray, RngLike
-from algorithms.core.validation import as_choice, as_float, as_int, as_points, same_dim
-from algorithms.embedding._quality import trustworthiness
+from algorithms.core.validation import as_int, as_points, same_dim
+from algorithms.embedding import trustworthiness
 
-__all__ = ["NCAResult", "nca", "INITS", "MAX_POINTS"]
+__all__ = ["NCAResult", "nca", "Init", "INITS", "MAX_POINTS"]
 
+Init = Literal["auto", "pca", "lda", "identity", "random"]
+"""NCA's starting map: chosen by the sizes, PCA, LDA, the identity, or random."""
 #: Accepted values of ``init``.
-INITS = ("auto", "pca", "lda", "identity", "random")
+INITS: tuple[str, ...] = typing.get_args(Init)
 #: Most points (the method holds dense n×n matrices).
 MAX_POINTS = 20_000
 
@@ -66,9 +70,19 @@ class NCAResult:
     converged: bool
 
 
-def nca(points: Any, labels: Any, *, n_components: int | None = None, init: str = "auto",
-        max_iterations: int = 50, tolerance: float = 1e-5, query: Any = None,
-        seed: RngLike = 0, progress: Progress | None = None) -> NCAResult:
+@validate_params
+def nca(
+    points: PointsLike,
+    labels: LabelsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] | None = None,
+    init: Init = "auto",
+    max_iterations: Annotated[int, Ge(1)] = 50,
+    tolerance: Annotated[float, Ge(0)] = 1e-5,
+    query: PointsLike | None = None,
+    seed: Seed = 0,
+    progress: Progress | None = None,
+) -> NCAResult:
     r"""Learn a linear map under which same-class points are each other's neighbours.
 
     With :math:`z_i = A x_i`, each point picks a neighbour at random with probability
@@ -90,23 +104,30 @@ def nca(points: Any, labels: Any, *, n_components: int | None = None, init: str 
     Parameters
     ----------
     points : (n, d) float array
+        The training points, one row per point; at least 3 and at most 20,000 points (the
+        method holds dense ``n×n`` matrices).
     labels : (n,) int or str array
-        The class of each point; at least 2 classes.
+        The class of each point (integers or strings); at least 2 classes.
     n_components : int, optional
-        The output dimension ``k``, ``1 <= k <= d``; ``d`` by default.
+        The output dimension ``k``, ``1 <= k <= d``; ``d`` when omitted.
     init : {"auto", "pca", "lda", "identity", "random"}, default "auto"
-        The starting map: ``"auto"`` is LDA when ``k <= min(d, c - 1)``, else PCA when
-        ``k < d``, else the identity (scikit-learn's rule); ``"random"`` draws a standard
-        normal ``k×d`` matrix with ``seed``.
+        The starting map: ``"pca"`` the ``k`` principal axes, ``"lda"`` the discriminant
+        directions (needs ``k <= min(d, c - 1)`` for ``c`` classes; when the classes
+        differ only along directions in which they are flat, PCA starts instead),
+        ``"identity"`` the first ``k`` coordinates, ``"random"`` a standard normal
+        ``k×d`` matrix drawn with ``seed``; ``"auto"`` is LDA when ``k <= min(d, c - 1)``,
+        else PCA when ``k < d``, else the identity (scikit-learn's rule).
     max_iterations : int, default 50
+        Most L-BFGS iterations (``converged`` is False when they run out).
     tolerance : float, default 1e-5
         L-BFGS stops when the relative decrease of the objective, or the largest gradient
         entry, falls below this (scipy's ``tol``, as scikit-learn passes it).
     query : (m, d) float array, optional
-        Points to embed and classify (1-nearest neighbour in the embedding).
+        Points to embed and classify (1-nearest neighbour in the embedding); none when
+        omitted (the query outputs are then empty).
     seed : int or numpy Generator, default 0
-        For ``init="random"``; the same seed gives the same map. (With ``"lda"``, when the classes
-        differ only along directions in which they are flat, PCA starts instead.)
+        Draws the start of ``init="random"`` (unused otherwise); the same seed gives the
+        same map.
     progress : callable, optional
         ``progress(iteration, max_iterations, message)`` after each iteration; may raise
         :class:`~algorithms.core.errors.Cancelled`.
@@ -128,10 +149,10 @@ def nca(points: Any, labels: Any, *, n_components: int | None = None, init: str 
 
     Notes
     -----
-    The seed document sees NCA as stochastic neighbour embedding's idea applied to classes:
-    a linear map making the pairwise distances of same-class points small, with the
-    distance matrix "row-proportionalised" — the softmax rows :math:`p_{i\cdot}` above sum
-    to one. The objective of Goldberger et al. is the sum of same-class probabilities, not
+    NCA is stochastic neighbour embedding's idea applied to classes: a linear map making
+    the pairwise distances of same-class points small, with each row of the distance
+    matrix turned into probabilities — the softmax rows :math:`p_{i\cdot}` above sum to
+    one. The objective of Goldberger et al. is the sum of same-class probabilities, not
     of distances: large distances get probability near zero rather than a large penalty,
     so a class may stay spread over several groups.
 
@@ -155,9 +176,7 @@ def nca(points: Any, labels: Any, *, n_components: int | None = None, init: str 
     k = d if n_components is None else as_int(
         n_components, name="n_components", minimum=1, maximum=d,
         reason="the dimension of `points`")
-    init = as_choice(init, INITS, name="init")
-    iters = as_int(max_iterations, name="max_iterations", minimum=1)
-    tol = as_float(tolerance, name="tolerance", minimum=0.0)
+    iters, tol = max_iterations, tolerance
     q = None
     if query is not None:
         q = as_points(query, name="query")
@@ -202,7 +221,8 @@ def nca(points: Any, labels: Any, *, n_components: int | None = None, init: str 
     converged = res.status == 0  # 1: iteration limit
     if not converged:
         warnings.warn(f"NCA stopped after {int(res.nit)} iterations before the objective "
-                      f"changed by less than {tol:g}.", ConvergenceWarning, stacklevel=2)
+                      f"changed by less than {tol:g}.", ConvergenceWarning,
+                      stacklevel=3)  # the caller of the validate_params wrapper
     objective = -float(res.fun)
     nearest = _nearest(emb, emb, exclude_self=True)
     if q is not None:

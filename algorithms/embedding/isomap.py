@@ -5,21 +5,25 @@ from __future__ import annotations
 import heapq
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
-from algorithms.core.graphs import neighbour_graph
+from algorithms.core.graphs import Neighbors, neighbour_graph
+from algorithms.core.params import Ge, Gt, PointsLike, validate_params
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_choice, as_int, as_points
+from algorithms.core.validation import as_int, as_points
 from algorithms.embedding._quality import trustworthiness
 from algorithms.layout.mds import classical_coordinates
 
-__all__ = ["IsomapResult", "isomap", "MAX_ISOMAP_POINTS"]
+__all__ = ["IsomapResult", "isomap", "MAX_ISOMAP_POINTS", "EdgeLength"]
+
+EdgeLength = Literal["distance", "uniform"]
+"""The length of a graph edge in the shortest paths: the distance between its ends, or 1."""
 
 #: Isomap holds the dense ``n×n`` geodesic distances (10,000 points: 800 MB).
 MAX_ISOMAP_POINTS = 10_000
@@ -66,9 +70,17 @@ class IsomapResult:
     trustworthiness: float
 
 
-def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
-           n_neighbors: int = 5, radius: float | None = None, weighting: str = "distance",
-           quality_neighbors: int = 5) -> IsomapResult:
+@validate_params
+def isomap(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    neighbors: Neighbors = "knn",
+    n_neighbors: Annotated[int, Ge(1)] = 5,
+    radius: Annotated[float, Gt(0)] | None = None,
+    weighting: EdgeLength = "distance",
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+) -> IsomapResult:
     r"""Isomap (Tenenbaum, de Silva and Langford 2000).
 
     1. A neighbourhood graph on the points (``neighbors``), each edge as long as the
@@ -80,21 +92,25 @@ def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     Parameters
     ----------
     points : (n, D) float array
-        At least ``n_neighbors + 1`` and at most 10,000 points.
+        The data, one row per point; at least 2 (and more than ``n_neighbors``) and at
+        most 10,000 points (the method keeps the ``n×n`` geodesic distances).
     n_components : int, default 2
-        The dimension ``k``, ``1 <= k <= n``.
+        The dimension ``k`` of the embedding, ``1 <= k <= n``.
     neighbors : {"knn", "radius", "all"}, default "knn"
-        ``"knn"``: each point joined to its ``n_neighbors`` nearest (union); ``"radius"``:
-        every pair closer than ``radius``; ``"all"``: every pair (plain classical MDS).
+        The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
+        nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+        ``"all"`` every pair (then Isomap is plain classical MDS).
     n_neighbors : int, default 5
-        Neighbours per point for ``"knn"``, ``1 <= n_neighbors <= n - 1``.
+        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``.
     radius : float, optional
-        The radius for ``"radius"``.
+        The radius with ``neighbors="radius"``, required there.
     weighting : {"distance", "uniform"}, default "distance"
-        Edge *lengths* for the shortest paths: the Euclidean distance, or 1 per edge.
-        (The heat kernel is a similarity, not a length: it is refused.)
+        Edge *lengths* for the shortest paths: ``"distance"`` the Euclidean distance
+        between the ends, ``"uniform"`` 1 per edge (hop counts). (A heat kernel is a
+        similarity, not a length: there is none here.)
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
 
     Returns
     -------
@@ -119,10 +135,11 @@ def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     jumps and the embedding depend on them; an error naming the component count lets the
     caller choose more neighbours or a larger radius instead.
 
-    The seed document describes the three steps as above ("adjacency matrix: pick
-    neighbours, set weights; all-pairs shortest paths with those weights; multidimensional
-    scaling"); as its graph-Laplacian section says weights must be inverted for Laplacians
-    (similarities), here the edge values are lengths, so ``weighting`` is a length.
+    **Edge values are lengths, not similarities.** The shortest paths add up edge values,
+    so they must be lengths; a Laplacian's weights are similarities (large for near
+    points), the inverse notion. ``weighting`` here is therefore a length, and the
+    similarities of the spectral methods (``1/d``, the heat kernel) are not offered.
+
     With ``neighbors="knn"`` and ``weighting="distance"`` the result equals
     ``sklearn.manifold.Isomap(n_neighbors=k, eigen_solver="dense")`` up to the signs of the
     columns (same sign convention here, so equal up to ties of neighbours).
@@ -140,7 +157,6 @@ def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     ----------
     .. [1] J. B. Tenenbaum, V. de Silva, J. C. Langford, "A global geometric framework for
        nonlinear dimensionality reduction", Science 290 (2000).
-    .. [2] The seed document, section "isomap".
 
     Examples
     --------
@@ -155,8 +171,7 @@ def isomap(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     x = as_points(points, name="points", min_points=2, max_points=MAX_ISOMAP_POINTS)
     n = x.shape[0]
     k = as_int(n_components, name="n_components", minimum=1, maximum=n,
-               reason=f"the number of `points` ({n})")
-    as_choice(weighting, ("distance", "uniform"), name="weighting")
+               reason="the number of `points`")
     g = neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
                         connected="isomap")
     if weighting == "uniform":
@@ -190,8 +205,8 @@ def _induced(g: sp.csr_array, idx: IntArray) -> sp.csr_array:
 
 def _patches(g: sp.csr_array, ball: int) -> IntArray:
     """A label per vertex: graph Voronoi cells (by edge length) of seeds chosen greedily,
-    each seed the first vertex not yet within the first ``ball`` vertices of an earlier
-    seed's breadth-first order."""
+    each seed the first vertex not yet within the first ``ball`` vertices of the
+    breadth-first order from an earlier seed."""
     n = g.shape[0]
     covered = np.zeros(n, dtype=bool)
     seeds = []
@@ -320,7 +335,8 @@ def _geodesic_distances(g: sp.csr_array, *, patched_from: int = _PATCHED_FROM,
 def _principal_coordinates(squared: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
     r"""Classical MDS of the squared distances ``squared`` (read only), as
     :func:`~algorithms.layout.mds.classical_coordinates`, by a block Krylov (block Lanczos
-    with full reorthogonalisation) method on the operator :math:`B = -\tfrac12 J G J` applied without forming :math:`B`.
+    with full reorthogonalisation) method on the operator :math:`B = -\tfrac12 J G J`
+    applied without forming :math:`B`.
 
     The basis is kept centred, so :math:`B Q = -\tfrac12 J (G Q)`: one pass over :math:`G`
     (a BLAS-3 product with a block of :math:`k + 6` vectors) per step. Each step:

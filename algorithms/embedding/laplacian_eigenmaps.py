@@ -3,25 +3,31 @@ Laplacian."""
 
 from __future__ import annotations
 
+import typing
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
-from algorithms.core.graphs import neighbour_graph
+from algorithms.core.graphs import GraphWeighting, Neighbors, neighbour_graph
 from algorithms.core.laplacian import laplacian as graph_laplacian
+from algorithms.core.params import Ge, Gt, PointsLike, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_int, as_points
 from algorithms.embedding._quality import fix_signs, trustworthiness
 
-__all__ = ["LaplacianEigenmapsResult", "laplacian_eigenmaps", "LAPLACIANS",
+__all__ = ["LaplacianEigenmapsResult", "laplacian_eigenmaps", "Normalization", "LAPLACIANS",
            "spectral_embedding", "similarity_graph"]
 
+Normalization = Literal["random_walk", "symmetric", "unnormalized"]
+r"""How a spectral embedding normalises the graph Laplacian :math:`L = D - W`:
+:math:`L v = \lambda D v`, :math:`D^{-1/2} L D^{-1/2} y = \lambda y` or
+:math:`L y = \lambda y`."""
 #: The accepted values of ``laplacian``.
-LAPLACIANS = ("random_walk", "symmetric", "unnormalized")
+LAPLACIANS: tuple[str, ...] = typing.get_args(Normalization)
 
 #: Up to this many points the eigenproblem is solved densely (LAPACK); above, by
 #: shift-invert Lanczos (ARPACK) on the sparse Laplacian.
@@ -99,11 +105,19 @@ def spectral_embedding(w: Any, k: int, kind: str = "random_walk"
     return fix_signs(vecs[:, 1:]), np.maximum(vals[1:], 0.0)
 
 
-def laplacian_eigenmaps(points: Any, *, n_components: int = 2, neighbors: str = "knn",
-                        n_neighbors: int | None = None, radius: float | None = None,
-                        weighting: str = "uniform", sigma: float | None = None,
-                        laplacian: str = "random_walk", quality_neighbors: int = 5
-                        ) -> LaplacianEigenmapsResult:
+@validate_params
+def laplacian_eigenmaps(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    neighbors: Neighbors = "knn",
+    n_neighbors: Annotated[int, Ge(1)] | None = None,
+    radius: Annotated[float, Gt(0)] | None = None,
+    weighting: GraphWeighting = "uniform",
+    sigma: Annotated[float, Gt(0)] | None = None,
+    laplacian: Normalization = "random_walk",
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+) -> LaplacianEigenmapsResult:
     r"""Laplacian eigenmaps (Belkin and Niyogi 2003).
 
     On a neighbourhood graph with weights :math:`W`, degrees :math:`D` and Laplacian
@@ -113,30 +127,38 @@ def laplacian_eigenmaps(points: Any, *, n_components: int = 2, neighbors: str = 
 
     * ``"random_walk"`` (default; the paper, scikit-learn): :math:`L v = \lambda D v`
       with :math:`v^\mathsf{T} D v = 1`, i.e. the eigenvectors of :math:`D^{-1} L`;
-    * ``"symmetric"`` (the seed document): :math:`D^{-1/2} L D^{-1/2} y = \lambda y`,
+    * ``"symmetric"``: :math:`D^{-1/2} L D^{-1/2} y = \lambda y`,
       :math:`\lVert y \rVert = 1` (:math:`y = D^{1/2} v`);
     * ``"unnormalized"``: :math:`L y = \lambda y`, :math:`\lVert y \rVert = 1`.
 
     Parameters
     ----------
     points : (n, D) float array
+        The data, one row per point; at least 3 points.
     n_components : int, default 2
-        The dimension ``k``, ``1 <= k <= n - 2``.
+        The dimension ``k`` of the embedding, ``1 <= k <= n - 2``.
     neighbors : {"knn", "radius", "all"}, default "knn"
-        The graph: each point's ``n_neighbors`` nearest (union), every pair within
-        ``radius``, or every pair.
+        The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
+        nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+        ``"all"`` every pair.
     n_neighbors : int, optional
-        Default ``max(n // 10, 1)`` (scikit-learn's).
+        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``;
+        ``max(n // 10, 1)`` when omitted (scikit-learn's default).
     radius : float, optional
-        For ``neighbors="radius"``.
+        The radius with ``neighbors="radius"``, required there.
     weighting : {"uniform", "distance", "heat"}, default "uniform"
-        Edge weights: 1, :math:`1/d` or :math:`e^{-d^2/2\sigma^2}`.
+        Edge weights from the edge lengths :math:`d`: ``"uniform"`` 1, ``"distance"``
+        :math:`1/d`, ``"heat"`` the heat kernel :math:`\exp(-d^2/2\sigma^2)`.
     sigma : float, optional
-        Heat kernel width; default the mean edge length.
+        The heat kernel's width :math:`\sigma`; the mean edge length when omitted.
     laplacian : {"random_walk", "symmetric", "unnormalized"}, default "random_walk"
-        The normalisation above.
+        The normalisation of :math:`L = D - W`: ``"random_walk"`` solves
+        :math:`L v = \lambda D v` (the paper, scikit-learn); ``"symmetric"`` returns instead
+        the unit eigenvectors :math:`y = \sqrt{D}\, v` of the symmetric normalised
+        Laplacian; ``"unnormalized"`` solves :math:`L y = \lambda y`.
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
 
     Returns
     -------
@@ -156,13 +178,16 @@ def laplacian_eigenmaps(points: Any, *, n_components: int = 2, neighbors: str = 
 
     Notes
     -----
-    **The seed document** derives the method from :math:`\min y^\mathsf{T} D^{-1/2} L
-    D^{-1/2} y`, substitutes :math:`v = D^{-1/2} y` to reach :math:`L v = \lambda D v`,
-    and then turns ``v`` back into ``y`` ("also some take v directly as the answer"): that
-    is ``laplacian="symmetric"``. The default returns ``v`` as the paper and
-    scikit-learn do, so that the result agrees with ``sklearn.manifold.SpectralEmbedding``
-    (affinity ``"precomputed"`` on the same weights) up to an orthogonal transform (exactly
-    when the eigenvalues are distinct: same signs convention).
+    **Which vector is the embedding.** The normalised problem :math:`\min y^\mathsf{T}
+    D^{-1/2} L D^{-1/2} y` with :math:`\lVert y \rVert = 1` becomes, by the substitution
+    :math:`v = D^{-1/2} y`, the paper's :math:`L v = \lambda D v` with
+    :math:`v^\mathsf{T} D v = 1`: the same eigenvalues, but the two eigenvectors differ by
+    the factor :math:`D^{1/2}` row by row, so returning :math:`y` (``"symmetric"``) or
+    :math:`v` gives different embeddings wherever degrees differ. The default returns
+    :math:`v`, as the paper and scikit-learn do, so that the result agrees with
+    ``sklearn.manifold.SpectralEmbedding`` (affinity ``"precomputed"`` on the same weights)
+    up to an orthogonal transform (exactly when the eigenvalues are distinct: same signs
+    convention).
 
     Disconnected graphs are an error naming the component count; scikit-learn only warns.
 
@@ -173,7 +198,6 @@ def laplacian_eigenmaps(points: Any, *, n_components: int = 2, neighbors: str = 
     ----------
     .. [1] M. Belkin, P. Niyogi, "Laplacian eigenmaps for dimensionality reduction and
        data representation", Neural Computation 15 (2003).
-    .. [2] The seed document, section "graph Laplacian analysis".
 
     Examples
     --------
@@ -186,8 +210,7 @@ def laplacian_eigenmaps(points: Any, *, n_components: int = 2, neighbors: str = 
     x = as_points(points, name="points", min_points=3)
     n = x.shape[0]
     k = as_int(n_components, name="n_components", minimum=1, maximum=n - 2,
-               reason=f"the number of `points` minus two ({n - 2})")
-    as_choice(laplacian, LAPLACIANS, name="laplacian")
+               reason="the number of `points` minus two")
     w = similarity_graph(x, neighbors, n_neighbors, radius, weighting, sigma,
                          method="Laplacian eigenmaps")
     y, vals = spectral_embedding(w, k, laplacian)

@@ -4,20 +4,24 @@ reconstruction weights in few dimensions."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.graphs import check_connected
+from algorithms.core.graphs import check_connected, check_n_neighbors
+from algorithms.core.params import Ge, Gt, PointsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_choice, as_float, as_int, as_points
+from algorithms.core.validation import as_int, as_points
 from algorithms.embedding._quality import fix_signs, trustworthiness
 from algorithms.embedding.laplacian_eigenmaps import _smallest
 
-__all__ = ["LLEResult", "lle", "barycenter_weights"]
+__all__ = ["LLEResult", "lle", "barycenter_weights", "Neighbourhood"]
+
+Neighbourhood = Literal["knn", "radius"]
+"""Each point's own neighbours in LLE: its ``n_neighbors`` nearest, or all within ``radius``."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,9 +96,17 @@ def barycenter_weights(x: FloatArray, neighbours: list[np.ndarray] | np.ndarray,
                                                   np.concatenate(cols_l))), shape=(n, n))
 
 
-def lle(points: Any, *, n_components: int = 2, neighbors: str = "knn", n_neighbors: int = 5,
-        radius: float | None = None, regularization: float = 1e-3,
-        quality_neighbors: int = 5) -> LLEResult:
+@validate_params
+def lle(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    neighbors: Neighbourhood = "knn",
+    n_neighbors: Annotated[int, Ge(1)] = 5,
+    radius: Annotated[float, Gt(0)] | None = None,
+    regularization: Annotated[float, Ge(0)] = 1e-3,
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+) -> LLEResult:
     r"""Locally linear embedding (Roweis and Saul 2000), standard variant.
 
     1. Neighbours of each point: its ``n_neighbors`` nearest (``"knn"``, each point's own
@@ -108,18 +120,24 @@ def lle(points: Any, *, n_components: int = 2, neighbors: str = "knn", n_neighbo
     Parameters
     ----------
     points : (n, D) float array
+        The data, one row per point; at least 3 points.
     n_components : int, default 2
-        The dimension ``k``, ``1 <= k <= n - 2``.
+        The dimension ``k`` of the embedding, ``1 <= k <= n - 2``.
     neighbors : {"knn", "radius"}, default "knn"
+        The points each point is reconstructed from: ``"knn"`` its own ``n_neighbors``
+        nearest (not symmetrised), ``"radius"`` all within ``radius``.
     n_neighbors : int, default 5
-        Neighbours per point for ``"knn"``, ``1 <= n_neighbors <= n - 1``.
+        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``.
     radius : float, optional
-        For ``"radius"`` (every point needs at least one neighbour).
+        The radius with ``neighbors="radius"``, required there; every point needs at
+        least one neighbour within it.
     regularization : float, default 1e-3
-        ``r``: the local Gram matrix gets :math:`r \operatorname{tr}(C)` on its diagonal.
-        Needed when ``n_neighbors > D`` (then :math:`C` is singular); 0 turns it off.
+        ``r``: the local Gram matrix :math:`C` gets :math:`r \operatorname{tr}(C)` on its
+        diagonal. Needed when ``n_neighbors > D`` (then :math:`C` is singular); 0 turns it
+        off.
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
 
     Returns
     -------
@@ -140,16 +158,21 @@ def lle(points: Any, *, n_components: int = 2, neighbors: str = "knn", n_neighbo
 
     Notes
     -----
-    **What the seed document says.** It writes the weights for ``n`` neighbours as
-    :math:`w_i = \sum_j C^{-1}_{ij} / \sum_{ij} C^{-1}_{ij}` (marked "to be confirmed"):
-    that is the solution of :math:`C w = \mathbf 1` normalised, computed here by a solve
-    (no inverse). It scales the weights to sum to ``n`` and then notes that the last step
-    should *not* multiply by ``n`` back; the weights here sum to 1, as in the paper. For the
-    final step it notes that the usual graph-Laplacian analysis would use the symmetric
-    part :math:`L + L^\mathsf{T}` of :math:`L = I - W`, whereas the paper's least squares
-    use :math:`L^\mathsf{T} L` ("like a bilaplacian"); this follows the paper (and
-    scikit-learn), since only :math:`L^\mathsf{T} L` keeps the constant vector as its exact
-    null vector.
+    **The weights.** The closed form :math:`w_a = \sum_b C^{-1}_{ab} / \sum_{bc}
+    C^{-1}_{bc}` is the solution of :math:`C w = \mathbf 1` normalised to sum to 1;
+    it is computed by a solve (no inverse). The weights sum to 1, as in the paper, not
+    to the number of neighbours: a scale of the weights would scale :math:`W` and break
+    :math:`(I - W)\mathbf 1 = 0`.
+
+    **The matrix of the last step.** With :math:`L = I - W`, the embedding minimises
+    :math:`\lVert L Y \rVert^2 = \operatorname{tr}(Y^\mathsf{T} L^\mathsf{T} L Y)`, so
+    its matrix is :math:`M = L^\mathsf{T} L` (a squared operator, like a bilaplacian),
+    not the symmetric part :math:`(L + L^\mathsf{T}) / 2` a graph-Laplacian reading of
+    :math:`W` would suggest (:math:`W` is not symmetric). Only :math:`L^\mathsf{T} L`
+    keeps the constant vector as an exact null vector: :math:`L \mathbf 1 = 0` because
+    the rows of :math:`W` sum to 1, so :math:`L^\mathsf{T} L \mathbf 1 = 0`, whereas
+    :math:`(L + L^\mathsf{T}) \mathbf 1 = (I - W^\mathsf{T}) \mathbf 1` vanishes only if
+    the columns of :math:`W` sum to 1 too. This follows the paper and scikit-learn.
 
     The regularisation is scikit-learn's (always applied, scaled by the trace, so the
     results agree: with the same neighbours the embedding equals
@@ -166,7 +189,6 @@ def lle(points: Any, *, n_components: int = 2, neighbors: str = "knn", n_neighbo
     ----------
     .. [1] S. T. Roweis, L. K. Saul, "Nonlinear dimensionality reduction by locally linear
        embedding", Science 290 (2000).
-    .. [2] The seed document, section "locally linear embedding".
 
     Examples
     --------
@@ -180,13 +202,11 @@ def lle(points: Any, *, n_components: int = 2, neighbors: str = "knn", n_neighbo
     x = as_points(points, name="points", min_points=3)
     n = x.shape[0]
     k = as_int(n_components, name="n_components", minimum=1, maximum=n - 2,
-               reason=f"the number of `points` minus two ({n - 2})")
-    as_choice(neighbors, ("knn", "radius"), name="neighbors")
-    reg = as_float(regularization, name="regularization", minimum=0.0)
+               reason="the number of `points` minus two")
+    reg = regularization
     tree = cKDTree(x)
     if neighbors == "knn":
-        m = as_int(n_neighbors, name="n_neighbors", minimum=1, maximum=n - 1,
-                   reason=f"the number of `points` minus one ({n - 1})")
+        m = check_n_neighbors(n, n_neighbors)
         _, idx = tree.query(x, k=m + 1)
         idx = idx.reshape(n, m + 1)
         own = idx == np.arange(n)[:, None]
@@ -196,7 +216,7 @@ def lle(points: Any, *, n_components: int = 2, neighbors: str = "knn", n_neighbo
         if radius is None:
             raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
                                     field="radius")
-        r = as_float(radius, name="radius", minimum=0.0, inclusive=False)
+        r = radius
         lists = tree.query_ball_point(x, r)
         nbrs = [np.array([j for j in lst if j != i], dtype=np.int64)
                 for i, lst in enumerate(lists)]

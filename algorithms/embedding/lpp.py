@@ -3,18 +3,20 @@ r"""Locality preserving projections: the linear map closest to Laplacian eigenma
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 
 from algorithms.core.errors import DegenerateInputError
+from algorithms.core.graphs import GraphWeighting, Neighbors
 from algorithms.core.laplacian import laplacian as graph_laplacian
+from algorithms.core.params import Ge, Gt, PointsLike, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_points
 from algorithms.embedding._quality import fix_signs, trustworthiness
-from algorithms.embedding.laplacian_eigenmaps import LAPLACIANS, similarity_graph
+from algorithms.embedding.laplacian_eigenmaps import LAPLACIANS, Normalization, similarity_graph
 from algorithms.embedding.pca import check_linear_components
 
 __all__ = ["LPPResult", "lpp", "lpp_from_weights"]
@@ -83,10 +85,19 @@ def lpp_from_weights(x: FloatArray, w: Any, k: int, kind: str = "random_walk"
     return np.ascontiguousarray(comps), np.maximum(vals, 0.0), mu
 
 
-def lpp(points: Any, *, n_components: int = 2, neighbors: str = "knn",
-        n_neighbors: int | None = None, radius: float | None = None,
-        weighting: str = "uniform", sigma: float | None = None,
-        laplacian: str = "random_walk", quality_neighbors: int = 5) -> LPPResult:
+@validate_params
+def lpp(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    neighbors: Neighbors = "knn",
+    n_neighbors: Annotated[int, Ge(1)] | None = None,
+    radius: Annotated[float, Gt(0)] | None = None,
+    weighting: GraphWeighting = "uniform",
+    sigma: Annotated[float, Gt(0)] | None = None,
+    laplacian: Normalization = "random_walk",
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+) -> LPPResult:
     r"""Locality preserving projections (He and Niyogi 2003).
 
     Laplacian eigenmaps restricted to linear maps :math:`y = A^\mathsf{T}(x - \mu)`: with
@@ -97,7 +108,7 @@ def lpp(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     * ``"random_walk"`` (default; the paper): :math:`\tilde X^\mathsf{T} L \tilde X a =
       \lambda \tilde X^\mathsf{T} D \tilde X a`, centred at the degree-weighted mean (so
       the constant map is excluded, as the trivial vector in Laplacian eigenmaps);
-    * ``"symmetric"`` (the seed document): :math:`\tilde X^\mathsf{T} D^{-1/2} L D^{-1/2}
+    * ``"symmetric"``: :math:`\tilde X^\mathsf{T} D^{-1/2} L D^{-1/2}
       \tilde X a = \lambda \tilde X^\mathsf{T} \tilde X a`, i.e. :math:`\min
       \operatorname{tr}(Y^\mathsf{T} D^{-1/2} L D^{-1/2} Y)` subject to
       :math:`Y^\mathsf{T} Y = I`, centred at the mean;
@@ -107,16 +118,34 @@ def lpp(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     Parameters
     ----------
     points : (n, D) float array
-        Spanning all ``D`` dimensions (else reduce them first, e.g. by PCA).
+        The data, one row per point; at least 3 points, spanning all ``D`` dimensions
+        (else reduce them first, e.g. by PCA).
     n_components : int, default 2
-        The dimension ``k``, ``1 <= k <= D``.
-    neighbors, n_neighbors, radius, weighting, sigma
-        The graph, as in :func:`~algorithms.embedding.laplacian_eigenmaps` (default
-        ``n_neighbors = max(n // 10, 1)``, uniform weights).
+        The dimension ``k`` of the embedding, ``1 <= k <= min(n, D)``.
+    neighbors : {"knn", "radius", "all"}, default "knn"
+        The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
+        nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+        ``"all"`` every pair.
+    n_neighbors : int, optional
+        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``;
+        ``max(n // 10, 1)`` when omitted (scikit-learn's default for spectral embedding).
+    radius : float, optional
+        The radius with ``neighbors="radius"``, required there.
+    weighting : {"uniform", "distance", "heat"}, default "uniform"
+        Edge weights from the edge lengths :math:`d`: ``"uniform"`` 1, ``"distance"``
+        :math:`1/d`, ``"heat"`` the heat kernel :math:`\exp(-d^2/2\sigma^2)`.
+    sigma : float, optional
+        The heat kernel's width :math:`\sigma`; the mean edge length when omitted.
     laplacian : {"random_walk", "symmetric", "unnormalized"}, default "random_walk"
-        The normalisation above.
+        The generalized eigenproblem for the directions :math:`a`, with :math:`X` the
+        centred data and :math:`L = D - W`: ``"random_walk"`` :math:`X^\mathsf{T} L X a =
+        \lambda X^\mathsf{T} D X a` (the paper; centred at the degree-weighted mean);
+        ``"symmetric"`` the symmetric normalised Laplacian in place of :math:`L` and
+        :math:`X^\mathsf{T} X` on the right; ``"unnormalized"`` :math:`X^\mathsf{T} L X a =
+        \lambda X^\mathsf{T} X a`.
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
 
     Returns
     -------
@@ -134,15 +163,20 @@ def lpp(points: Any, *, n_components: int = 2, neighbors: str = "knn",
 
     Notes
     -----
-    **The seed document** sets the problem up as :math:`\min A X L_\mathrm{sym} X^\mathsf{T}
-    A^\mathsf{T}` subject to :math:`A X X^\mathsf{T} A^\mathsf{T} = I` and notes "some take
-    :math:`V = X D^{-1/2}` as X directly", which gives the paper's
-    :math:`X L X^\mathsf{T} a = \lambda X D X^\mathsf{T} a`. The default is the paper's
-    form, the linear counterpart of the default of ``laplacian_eigenmaps``: when the points
-    are affinely independent (``D = n - 1``) every function on them is linear and the two
-    methods coincide (tested). ``laplacian="symmetric"`` is the seed's. The seed also
-    remarks that the linearity constraint weakens the graph embedding; LPP's gain is a map
-    that applies to new points (``components``, ``mean``).
+    **Two normalisations.** Set up with the normalised Laplacian, the problem is
+    :math:`\min \operatorname{tr}(A^\mathsf{T} \tilde X^\mathsf{T} L_\mathrm{sym} \tilde X
+    A)` subject to :math:`A^\mathsf{T} \tilde X^\mathsf{T} \tilde X A = I`, with
+    :math:`L_\mathrm{sym} = D^{-1/2} L D^{-1/2}` (``"symmetric"``). Replacing the data
+    :math:`\tilde X` by :math:`D^{1/2} \tilde X` in it gives the paper's
+    :math:`\tilde X^\mathsf{T} L \tilde X a = \lambda \tilde X^\mathsf{T} D \tilde X a`:
+    the same substitution that turns the symmetric eigenproblem of Laplacian eigenmaps
+    into :math:`L v = \lambda D v`, but here the two are different problems, since the
+    map must be linear in the data. The default is the paper's form, the linear
+    counterpart of the default of ``laplacian_eigenmaps``: when the points are affinely
+    independent (``D = n - 1``) every function on them is linear and the two methods
+    coincide (tested). The linearity constraint can only raise the graph objective
+    compared with Laplacian eigenmaps; LPP's gain is a map that applies to new points
+    (``components``, ``mean``).
 
     There is no reference implementation in scikit-learn; the tests check the generalized
     eigen-equations, the reduction to Laplacian eigenmaps above, and invariance under
@@ -151,7 +185,6 @@ def lpp(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     References
     ----------
     .. [1] X. He, P. Niyogi, "Locality preserving projections", NIPS 16 (2003).
-    .. [2] The seed document, section "Laplacian principal component analysis".
 
     Examples
     --------
@@ -165,7 +198,6 @@ def lpp(points: Any, *, n_components: int = 2, neighbors: str = "knn",
     x = as_points(points, name="points", min_points=3)
     n, dim = x.shape
     k = check_linear_components(n_components, n, dim)
-    as_choice(laplacian, LAPLACIANS, name="laplacian")
     w = similarity_graph(x, neighbors, n_neighbors, radius, weighting, sigma,
                          method="locality preserving projections")
     comps, vals, mu = lpp_from_weights(x, w, k, laplacian)

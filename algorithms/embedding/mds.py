@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 from scipy.spatial.distance import pdist, squareform
 
+from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.progress import Progress
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_bool, as_int, as_points
+from algorithms.core.validation import MAX_DENSE_POINTS, as_int, as_points
 from algorithms.embedding._quality import trustworthiness
-from algorithms.core.validation import MAX_DENSE_POINTS
 from algorithms.layout.mds import classical_coordinates, raw_stress
 from algorithms.layout.stress import stress as smacof
 
@@ -54,9 +54,17 @@ class EmbeddingMDSResult:
     trustworthiness: float
 
 
-def mds(points: Any, *, n_components: int = 2, metric: bool = False,
-        max_iterations: int = 300, tolerance: float = 1e-6, quality_neighbors: int = 5,
-        progress: Progress | None = None) -> EmbeddingMDSResult:
+@validate_params
+def mds(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    metric: bool = False,
+    max_iterations: Annotated[int, Ge(0)] = 300,
+    tolerance: Annotated[float, Ge(0)] = 1e-6,
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+    progress: Progress | None = None,
+) -> EmbeddingMDSResult:
     r"""Classical (Torgerson) or metric (SMACOF) multidimensional scaling of points.
 
     **Classical** (default): with the squared distances :math:`D^{(2)}` and the centring
@@ -71,17 +79,22 @@ def mds(points: Any, *, n_components: int = 2, metric: bool = False,
     Parameters
     ----------
     points : (n, D) float array
-        At least 2 and at most 4,000 points (dense ``n×n`` matrices).
+        The data, one row per point; at least 2 and at most 4,000 points (the method
+        keeps dense ``n×n`` matrices).
     n_components : int, default 2
-        The dimension ``k``, ``1 <= k <= n``.
+        The dimension ``k`` of the embedding, ``1 <= k <= n``.
     metric : bool, default False
-        Refine the classical embedding by SMACOF.
+        False: classical MDS only. True: refine the classical embedding by SMACOF, which
+        minimises the raw stress (scikit-learn's ``MDS``).
     max_iterations : int, default 300
-        Most SMACOF iterations (``metric=True``).
+        Most SMACOF iterations; used only with ``metric=True`` (0 keeps the classical
+        embedding).
     tolerance : float, default 1e-6
-        SMACOF stops when one iteration lowers the stress by less than this fraction.
+        SMACOF stops when one iteration lowers the stress by less than this fraction of
+        it; used only with ``metric=True``.
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
     progress : callable, optional
         Called per SMACOF iteration; may raise ``Cancelled``.
 
@@ -99,10 +112,11 @@ def mds(points: Any, *, n_components: int = 2, metric: bool = False,
 
     Notes
     -----
-    The seed document: "take the distance matrix, centre rows and columns, divide by −2 to
-    get the dot-product matrix ... the answer is exactly the PCA embedding". So classical
-    MDS of Euclidean distances equals :func:`~algorithms.embedding.pca` up to the signs of
-    the columns (tested), and ``sklearn.manifold.ClassicalMDS``. It is computed from the
+    Double-centring the squared distances and halving them,
+    :math:`-\tfrac12 J D^{(2)} J = \tilde X \tilde X^\mathsf{T}`, recovers the Gram
+    matrix of the centred points, so classical MDS of Euclidean distances is exactly the
+    PCA embedding: it equals :func:`~algorithms.embedding.pca` up to the signs of the
+    columns (tested), and ``sklearn.manifold.ClassicalMDS``. It is computed from the
     distances here (as for any metric), which costs :math:`O(n^2)` memory.
 
     References
@@ -123,8 +137,7 @@ def mds(points: Any, *, n_components: int = 2, metric: bool = False,
     x = as_points(points, name="points", min_points=2, max_points=MAX_DENSE_POINTS)
     n = x.shape[0]
     k = as_int(n_components, name="n_components", minimum=1, maximum=n,
-               reason=f"the number of `points` ({n})")
-    as_bool(metric, name="metric")
+               reason="the number of `points`")
     d = squareform(pdist(x))
     y, eigenvalues = classical_coordinates(d * d, k)
     iterations, converged = 0, True

@@ -3,11 +3,12 @@ r"""Principal component analysis: the orthogonal projection that keeps the most 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import scipy.linalg as la
 
+from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_int, as_points
 from algorithms.embedding._quality import fix_signs, trustworthiness
@@ -52,12 +53,17 @@ def check_linear_components(n_components: Any, n: int, d: int) -> int:
     """``n_components`` of a linear map of ``n`` points in ``d`` dimensions: ``1 <= k <= d``
     (and ``<= n``)."""
     limit = min(n, d)
-    reason = (f"the dimension of `points` ({d})" if d <= n else
-              f"the number of `points` ({n})")
+    reason = "the dimension of `points`" if d <= n else "the number of `points`"
     return as_int(n_components, name="n_components", minimum=1, maximum=limit, reason=reason)
 
 
-def pca(points: Any, *, n_components: int = 2, quality_neighbors: int = 5) -> PCAResult:
+@validate_params
+def pca(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+) -> PCAResult:
     r"""Principal component analysis by the SVD of the centred data.
 
     With :math:`\tilde X = X - \bar x = U \Sigma V^\mathsf{T}` (thin SVD), the embedding is
@@ -68,11 +74,12 @@ def pca(points: Any, *, n_components: int = 2, quality_neighbors: int = 5) -> PC
     Parameters
     ----------
     points : (n, D) float array
-        At least 2 points.
+        The data, one row per point; at least 2 points.
     n_components : int, default 2
-        The dimension ``k``, ``1 <= k <= min(n, D)``.
+        The dimension ``k`` of the embedding, ``1 <= k <= min(n, D)``.
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
 
     Returns
     -------
@@ -87,8 +94,7 @@ def pca(points: Any, *, n_components: int = 2, quality_neighbors: int = 5) -> PC
 
     Notes
     -----
-    The seed document states it as here: centre, SVD, keep :math:`\Sigma V^\mathsf{T}` for
-    the ``k`` largest singular values. Classical MDS of the Euclidean distances gives the
+    Classical MDS of the Euclidean distances gives the
     same embedding (:func:`~algorithms.embedding.mds`). Signs: each axis's entry of largest
     magnitude is positive, as in ``sklearn.decomposition.PCA`` (scikit-learn ≥ 1.5), so the
     scores equal scikit-learn's.
@@ -99,7 +105,6 @@ def pca(points: Any, *, n_components: int = 2, quality_neighbors: int = 5) -> PC
     ----------
     .. [1] K. Pearson, "On lines and planes of closest fit to systems of points in space",
        Philosophical Magazine 2 (1901).
-    .. [2] The seed document, section "principal component analysis".
 
     Examples
     --------

@@ -5,17 +5,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Literal
 
 import numpy as np
 from scipy.spatial.distance import pdist
 
-from algorithms.core.types import FloatArray, RngLike
-from algorithms.core.validation import as_choice, as_float, as_points
+from algorithms.core.params import Ge, Interval, PointsLike, Seed, validate_params
+from algorithms.core.types import FloatArray
+from algorithms.core.validation import as_points
 from algorithms.embedding._quality import trustworthiness
 from algorithms.embedding.pca import check_linear_components
 
-__all__ = ["RandomProjectionResult", "random_projection"]
+__all__ = ["RandomProjectionResult", "random_projection", "MatrixKind"]
+
+MatrixKind = Literal["gaussian", "sparse"]
+"""The entries of the random matrix: Gaussian, or sparse signs (Achlioptas; Li et al.)."""
 
 #: The distortion is measured on the pairs of at most this many points (evenly spaced rows).
 _DISTORTION_POINTS = 500
@@ -45,9 +49,16 @@ class RandomProjectionResult:
     trustworthiness: float
 
 
-def random_projection(points: Any, *, n_components: int = 2, kind: str = "gaussian",
-                      density: float | None = None, seed: RngLike = 0,
-                      quality_neighbors: int = 5) -> RandomProjectionResult:
+@validate_params
+def random_projection(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    kind: MatrixKind = "gaussian",
+    density: Annotated[float, Interval(gt=0, le=1)] | None = None,
+    seed: Seed = 0,
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+) -> RandomProjectionResult:
     r"""Project points by a random matrix (Gaussian, or sparse as Achlioptas and Li et al.).
 
     * ``"gaussian"``: :math:`R_{cj} \sim \mathcal N(0, 1/k)`;
@@ -61,16 +72,22 @@ def random_projection(points: Any, *, n_components: int = 2, kind: str = "gaussi
     Parameters
     ----------
     points : (n, D) float array
+        The data, one row per point.
     n_components : int, default 2
-        The dimension ``k``, ``1 <= k <= min(n, D)``.
+        The dimension ``k`` of the embedding, ``1 <= k <= min(n, D)`` (a projection adds
+        no dimensions).
     kind : {"gaussian", "sparse"}, default "gaussian"
+        The matrix entries: ``"gaussian"`` independent :math:`\mathcal{N}(0, 1/k)`;
+        ``"sparse"`` :math:`\pm\sqrt{(s/k)}` with probability :math:`1/(2s)` each and 0
+        otherwise, :math:`s = 1/\text{density}` (Achlioptas; Li, Hastie and Church).
     density : float, optional
-        The fraction of non-zero entries for ``"sparse"``, in ``(0, 1]``; default
-        :math:`1/\sqrt D`.
+        The fraction of non-zero entries with ``kind="sparse"`` (only there), in
+        ``(0, 1]``; :math:`1/\sqrt{D}` when omitted.
     seed : int or numpy Generator, default 0
-        The same seed gives the same matrix.
+        Draws the matrix; the same seed gives the same matrix.
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
 
     Returns
     -------
@@ -85,11 +102,13 @@ def random_projection(points: Any, *, n_components: int = 2, kind: str = "gaussi
 
     Notes
     -----
-    The seed document: "generate a random linear map: randomness gives uniformity,
-    uniformity orthogonality, orthogonality preserved distances". The matrices are
-    scikit-learn's (``GaussianRandomProjection``, ``SparseRandomProjection``) in
-    distribution; the random streams differ, so the same seed does not give scikit-learn's
-    matrix.
+    Why distances survive: the rows of a random matrix in many dimensions are nearly
+    orthogonal and of nearly equal length, so :math:`R` acts almost as a scaled
+    orthogonal projection, and the squared length of every difference is kept in
+    expectation (exactly) and within :math:`1 \pm \varepsilon` with high probability
+    (Johnson–Lindenstrauss). The matrices are scikit-learn's
+    (``GaussianRandomProjection``, ``SparseRandomProjection``) in distribution; the random
+    streams differ, so the same seed does not give scikit-learn's matrix.
 
     References
     ----------
@@ -109,13 +128,11 @@ def random_projection(points: Any, *, n_components: int = 2, kind: str = "gaussi
     x = as_points(points, name="points", min_points=1)
     n, dim = x.shape
     k = check_linear_components(n_components, n, dim)
-    as_choice(kind, ("gaussian", "sparse"), name="kind")
     rng = np.random.default_rng(seed)
     if kind == "gaussian":
         r = rng.normal(0.0, 1.0 / math.sqrt(k), size=(k, dim))
     else:
-        dens = 1.0 / math.sqrt(dim) if density is None else as_float(
-            density, name="density", minimum=0.0, maximum=1.0, inclusive=(False, True))
+        dens = 1.0 / math.sqrt(dim) if density is None else density
         u = rng.random((k, dim))
         sign = np.where(rng.random((k, dim)) < 0.5, -1.0, 1.0)
         r = np.where(u < dens, sign * math.sqrt(1.0 / (dens * k)), 0.0)

@@ -4,20 +4,27 @@ that t-SNE replaces by a Student-t one; exact gradient over all pairs, so small 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated
 
 import numpy as np
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.params import Ge, Gt, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray, RngLike
-from algorithms.core.validation import as_float
+from algorithms.core.types import FloatArray
 from algorithms.embedding._quality import fix_signs, trustworthiness
-from algorithms.embedding.tsne import _CELLS, _descend, affinities, check_common, \
-    initial_embedding
+from algorithms.embedding.tsne import (
+    _CELLS,
+    LearningRate,
+    Start,
+    _descend,
+    affinities,
+    check_common,
+    initial_embedding,
+)
 
-__all__ = ["SNEResult", "sne", "MAX_SNE_POINTS"]
+__all__ = ["SNEResult", "sne", "MAX_SNE_POINTS", "check_size"]
 
 #: Most points: every step visits all pairs (O(n²) time; memory in blocks of rows).
 MAX_SNE_POINTS = 5_000
@@ -77,12 +84,30 @@ def _sne_kl_gradient(p: FloatArray, y: FloatArray, exaggeration: float = 1.0,
     return kl, grad
 
 
-def sne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
-        init: str = "pca", learning_rate: float | str | None = "auto",
-        max_iterations: int = 750,
-        early_exaggeration: float = 4.0, exaggeration_iterations: int = 250,
-        min_grad_norm: float = 1e-7, seed: RngLike = 0, quality_neighbors: int = 5,
-        progress: Progress | None = None) -> SNEResult:
+def check_size(n: int) -> None:
+    """Raise when ``n`` points are more than SNE's exact gradient takes."""
+    if n > MAX_SNE_POINTS:
+        raise InvalidInputError(f"Expected at most {MAX_SNE_POINTS:,} `points` for SNE (an "
+                                f"exact O(n²) gradient), got {n:,}; use t-SNE (its fft "
+                                f"gradient).", field="points")
+
+
+@validate_params
+def sne(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    perplexity: Annotated[float, Gt(0)] = 30.0,
+    init: Start = "pca",
+    learning_rate: LearningRate = "auto",
+    max_iterations: Annotated[int, Ge(1)] = 750,
+    early_exaggeration: Annotated[float, Ge(1)] = 4.0,
+    exaggeration_iterations: Annotated[int, Ge(0)] = 250,
+    min_grad_norm: Annotated[float, Ge(0)] = 1e-7,
+    seed: Seed = 0,
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+    progress: Progress | None = None,
+) -> SNEResult:
     r"""Symmetric SNE (van der Maaten and Hinton 2008, §3.1; Hinton and Roweis 2002).
 
     The input affinities are t-SNE's (perplexity-calibrated Gaussians over all pairs,
@@ -100,25 +125,35 @@ def sne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
     Parameters
     ----------
     points : (n, D) float array
-        At least 2 and at most 5,000 points.
+        The data, one row per point; at least 2 and at most 5,000 points.
     n_components : int, default 2
+        The embedding's dimension ``k``.
     perplexity : float, default 30
-        ``0 < perplexity < n``.
+        The effective number of neighbours of each point's Gaussian (its entropy is
+        :math:`\log(\text{perplexity})`, found by binary search), ``0 < perplexity < n``.
     init : {"pca", "random"}, default "pca"
-        PCA scores scaled to a first-column standard deviation of 1e-4, or Gaussian draws
-        of that size from ``seed``.
+        The start: ``"pca"`` the PCA scores scaled to a first-column standard deviation
+        of 1e-4, ``"random"`` Gaussian draws of that size from ``seed``.
     learning_rate : float or "auto", default "auto"
-        ``"auto"`` (or None): :math:`\max(n / 4\alpha, 50)`, :math:`\alpha` the exaggeration in
-        force (as t-SNE).
+        The step, ``> 0``. ``"auto"``: :math:`\max(n / 4\alpha, 50)`, :math:`\alpha` the
+        exaggeration in force (as t-SNE).
     max_iterations : int, default 750
+        Gradient steps in all, the exaggeration phase included.
     early_exaggeration : float, default 4
-        The factor on :math:`P` for the first ``exaggeration_iterations`` steps (4, the
-        value of the t-SNE paper; the Gaussian kernel cannot hold clusters apart under
-        t-SNE's 12).
+        The factor :math:`\alpha \ge 1` on :math:`P` for the first
+        ``exaggeration_iterations`` steps (4, the value of the t-SNE paper; the Gaussian
+        kernel cannot hold clusters apart under t-SNE's 12).
     exaggeration_iterations : int, default 250
+        The number of steps with :math:`P` multiplied by ``early_exaggeration``;
+        counted in ``max_iterations``.
     min_grad_norm : float, default 1e-7
+        After the exaggeration phase, stop once the gradient's norm falls below this.
     seed : int or numpy Generator, default 0
+        Draws the random start (and the extra columns of a PCA start when ``k`` exceeds
+        the data's dimension); the same seed gives the same embedding.
     quality_neighbors : int, default 5
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
     progress : callable, optional
         ``progress(done, total, message)`` every iteration; may raise ``Cancelled``.
 
@@ -131,26 +166,26 @@ def sne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
     ------
     InvalidInputError
         Bad ``points``; more than 5,000 points (the gradient is exact, :math:`O(n^2)` a
-        step; use ``embedding.tsne``); ``perplexity`` not in ``(0, n)``; a bad option.
+        step; use :func:`~algorithms.embedding.tsne`); ``perplexity`` not in ``(0, n)``;
+        a bad option.
     Cancelled
         Raised by ``progress``.
 
     Notes
     -----
-    The seed document: "SNE: a mixture of normal distributions; t-SNE: a mixture of
-    Student-t distributions, which works better", and, reading both as interpolation,
-    SNE "deliberately adds exp and log, and does worse". Both are here so the difference
-    can be seen: on clustered data SNE's light-tailed kernel crowds the clusters together
-    (lower trustworthiness than t-SNE at the same perplexity). The gradient is again a
-    difference of graph Laplacians, :math:`4 (L_P - L_Q) Y`, as the seed's adaptive-GLA
-    reading says. This is the symmetric variant (one joint :math:`P` and :math:`Q`), not
-    the original asymmetric SNE of Hinton and Roweis.
+    SNE models the embedding by a mixture of Gaussians, t-SNE by a mixture of Student-t
+    distributions; read as interpolation weights, t-SNE's are inverse squared distances
+    :math:`1/(1 + d^2)`, SNE's the Gaussian :math:`e^{-d^2}`. Both are here so the
+    difference can be seen: on clustered data SNE's light-tailed kernel crowds the
+    clusters together (lower trustworthiness than t-SNE at the same perplexity). The
+    gradient is again a difference of graph Laplacians, :math:`4 (L_P - L_Q) Y`, the
+    second rebuilt from :math:`Y` every step. This is the symmetric variant (one joint
+    :math:`P` and :math:`Q`), not the original asymmetric SNE of Hinton and Roweis.
 
     References
     ----------
     .. [1] G. Hinton, S. Roweis, "Stochastic neighbor embedding", NIPS 15 (2002).
     .. [2] L. van der Maaten, G. Hinton, "Visualizing data using t-SNE", JMLR 9 (2008).
-    .. [3] The seed document, section "stochastic neighbor embedding".
 
     Examples
     --------
@@ -162,16 +197,9 @@ def sne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
     ((60, 2), True)
     """
     report = as_progress(progress)
-    x, k, perp, init, iters, ee, ee_it, lr = check_common(
-        points, n_components=n_components, perplexity=perplexity, init=init,
-        max_iterations=max_iterations, early_exaggeration=early_exaggeration,
-        exaggeration_iterations=exaggeration_iterations, learning_rate=learning_rate)
-    n = x.shape[0]
-    if n > MAX_SNE_POINTS:
-        raise InvalidInputError(f"Expected at most {MAX_SNE_POINTS:,} `points` for SNE (an "
-                                f"exact O(n²) gradient), got {n:,}; use embedding.tsne.",
-                                field="points")
-    mgn = as_float(min_grad_norm, name="min_grad_norm", minimum=0.0)
+    x, lr = check_common(points, perplexity=perplexity, learning_rate=learning_rate)
+    check_size(x.shape[0])
+    k, perp, iters = n_components, perplexity, max_iterations
     rng = np.random.default_rng(seed)
     y = initial_embedding(x, k, init, rng)
     report(0, iters, "affinities")
@@ -181,9 +209,9 @@ def sne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
         return _sne_kl_gradient(p, yy, alpha, want)
 
     with single_blas_thread():
-        y, done = _descend(y, gradient, max_iterations=iters, exaggeration=ee,
-                           exaggeration_iterations=ee_it, learning_rate=lr,
-                           min_grad_norm=mgn, report=report, what="SNE")
+        y, done = _descend(y, gradient, max_iterations=iters, exaggeration=early_exaggeration,
+                           exaggeration_iterations=exaggeration_iterations, learning_rate=lr,
+                           min_grad_norm=min_grad_norm, report=report, what="SNE")
         kl, _ = gradient(y, 1.0, True)
     y = fix_signs(y)
     return SNEResult(

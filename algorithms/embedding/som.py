@@ -3,23 +3,29 @@ embedded at the grid position of its best-matching node."""
 
 from __future__ import annotations
 
+import typing
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Literal
 
 import numpy as np
 import scipy.linalg as la
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.params import Ge, Gt, Interval, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.types import FloatArray, IntArray, RngLike
-from algorithms.core.validation import as_choice, as_float, as_int, as_points
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_points
 from algorithms.embedding._quality import trustworthiness
 
-__all__ = ["SOMResult", "som", "INITS", "METHODS"]
+__all__ = ["SOMResult", "som", "check_grid", "Training", "Start", "INITS", "METHODS"]
 
+Training = Literal["online", "batch"]
+"""How a SOM is trained: Kohonen's rule one sample at a time, or the batch map."""
+Start = Literal["pca", "random"]
+"""Where the nodes start: on the plane of the two principal axes, or at random points."""
 #: Accepted values of ``init`` and ``method``.
-INITS = ("pca", "random")
-METHODS = ("online", "batch")
+INITS: tuple[str, ...] = typing.get_args(Start)
+METHODS: tuple[str, ...] = typing.get_args(Training)
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,10 +61,20 @@ class SOMResult:
     iterations: int
 
 
-def som(points: Any, *, rows: int = 10, columns: int = 10, method: str = "online",
-        max_iterations: int | None = None, learning_rate: float = 0.5,
-        sigma: float | None = None, init: str = "pca", seed: RngLike = 0,
-        progress: Progress | None = None) -> SOMResult:
+@validate_params
+def som(
+    points: PointsLike,
+    *,
+    rows: Annotated[int, Ge(1)] = 10,
+    columns: Annotated[int, Ge(1)] = 10,
+    method: Training = "online",
+    max_iterations: Annotated[int, Ge(1)] | None = None,
+    learning_rate: Annotated[float, Interval(gt=0, le=1)] = 0.5,
+    sigma: Annotated[float, Gt(0)] | None = None,
+    init: Start = "pca",
+    seed: Seed = 0,
+    progress: Progress | None = None,
+) -> SOMResult:
     r"""Train a self-organising map on a ``rows × columns`` grid and embed the points on it.
 
     Each node :math:`j` has a grid position :math:`g_j` and a data-space position
@@ -77,20 +93,26 @@ def som(points: Any, *, rows: int = 10, columns: int = 10, method: str = "online
     Parameters
     ----------
     points : (n, d) float array
+        The points to map, one row per point; at least 2 points.
     rows, columns : int, default 10
-        The grid's size; at least 1 each and 2 nodes in all.
+        The number of grid rows and columns; at least 1 each and 2 nodes in all.
     method : {"online", "batch"}, default "online"
+        ``"online"``: Kohonen's rule, one randomly drawn point per step (a stochastic
+        gradient step); ``"batch"``: each epoch moves every node to the fixed point of
+        an epoch of such steps, the neighbourhood-weighted mean of the points.
     max_iterations : int, optional
-        Samples presented (online; default ``max(1000, 10 n)``, capped at 100,000 by
-        default only) or epochs (batch; default 30).
+        Training steps: samples presented with ``"online"`` (``max(1000, 10 n)`` up to
+        100,000 when omitted) or epochs with ``"batch"`` (30 when omitted).
     learning_rate : float, default 0.5
-        :math:`\eta_0` of online training, in ``(0, 1]``.
+        :math:`\eta_0`, the starting step of online training, in ``(0, 1]`` (unused by
+        ``"batch"``).
     sigma : float, optional
-        :math:`\sigma_0`, the neighbourhood's starting width in grid units; by default half
-        the larger grid side (at least 1).
+        :math:`\sigma_0`, the neighbourhood's starting width in grid units; half the
+        larger grid side (at least 1) when omitted.
     init : {"pca", "random"}, default "pca"
-        Starting nodes: spread over the plane of the two principal axes (one standard
-        deviation per half side), or random data points drawn with ``seed``.
+        Starting nodes: ``"pca"`` spread over the plane of the two principal axes (one
+        standard deviation per half side), ``"random"`` at random data points drawn with
+        ``seed``.
     seed : int or numpy Generator, default 0
         Draws the order of the samples (online) and the random start; the same seed gives
         the same map.
@@ -114,11 +136,11 @@ def som(points: Any, *, rows: int = 10, columns: int = 10, method: str = "online
 
     Notes
     -----
-    The seed document calls the SOM an early method that is "less an embedding than an
-    alignment": a low-dimensional quadrilateral grid is aligned to high-dimensional data
-    whose correspondence to the grid is unknown, so every step re-assigns nearest nodes,
-    and a gradient step moves the nearest node together with its neighbours. That is the
-    online rule above; the embedding is then read off the grid.
+    The SOM is less an embedding than an alignment: a low-dimensional quadrilateral grid
+    is aligned to high-dimensional data whose correspondence to the grid is unknown, so
+    every step re-assigns nearest nodes, and a gradient step moves the nearest node
+    together with its grid neighbours. That is the online rule above; the embedding is
+    then read off the grid.
 
     References
     ----------
@@ -137,21 +159,14 @@ def som(points: Any, *, rows: int = 10, columns: int = 10, method: str = "online
     report = as_progress(progress)
     x = as_points(points, name="points", min_points=2)
     n, d = x.shape
-    r = as_int(rows, name="rows", minimum=1)
-    c = as_int(columns, name="columns", minimum=1)
-    if r * c < 2:
-        raise InvalidInputError(f"Expected a grid of at least 2 nodes, got rows={r} and "
-                                f"columns={c}.", field="rows")
-    method = as_choice(method, METHODS, name="method")
-    init = as_choice(init, INITS, name="init")
-    eta0 = as_float(learning_rate, name="learning_rate", minimum=0.0, maximum=1.0,
-                    inclusive=(False, True))
-    s0 = max(1.0, max(r, c) / 2.0) if sigma is None else as_float(
-        sigma, name="sigma", minimum=0.0, inclusive=False)
+    r, c = rows, columns
+    check_grid(r, c)
+    eta0 = learning_rate
+    s0 = max(1.0, max(r, c) / 2.0) if sigma is None else sigma
     if max_iterations is None:
         steps = min(100_000, max(1000, 10 * n)) if method == "online" else 30
     else:
-        steps = as_int(max_iterations, name="max_iterations", minimum=1)
+        steps = max_iterations
     rng = np.random.default_rng(seed)
     grid = np.stack(np.meshgrid(np.arange(r, dtype=np.float64),
                                 np.arange(c, dtype=np.float64), indexing="ij"), -1).reshape(-1, 2)
@@ -164,18 +179,18 @@ def som(points: Any, *, rows: int = 10, columns: int = 10, method: str = "online
         for t in range(steps):
             xi = x[order[t]]
             diff = xi - w
-            b = int(np.argmin(np.einsum("ij,ij->i", diff, diff)))
+            best = int(np.argmin(np.einsum("ij,ij->i", diff, diff)))
             decay = 1.0 + 2.0 * t / steps
             s = s0 / decay
-            h = np.exp(-grid_sq[b] / (2.0 * s * s)) * (eta0 / decay)
+            h = np.exp(-grid_sq[best] / (2.0 * s * s)) * (eta0 / decay)
             w += h[:, None] * diff
             if (t + 1) % every == 0 or t + 1 == steps:
                 report(t + 1, steps, f"{t + 1} samples")
     else:
         for t in range(steps):
             s = s0 * (1.0 / s0) ** (t / max(steps - 1, 1))
-            b = _bmu(x, w)[0]
-            h = np.exp(-grid_sq[b] / (2.0 * s * s))                  # (n, m)
+            nearest = _bmu(x, w)[0]
+            h = np.exp(-grid_sq[nearest] / (2.0 * s * s))            # (n, m)
             mass = h.sum(axis=0)
             new = h.T @ x
             hit = mass > 1e-300
@@ -193,6 +208,14 @@ def som(points: Any, *, rows: int = 10, columns: int = 10, method: str = "online
         trustworthiness=trustworthiness(x, emb),
         iterations=steps,
     )
+
+
+def check_grid(rows: int, columns: int) -> None:
+    """Raise unless a ``rows × columns`` grid has at least 2 nodes (one node maps every
+    point to one place)."""
+    if rows * columns < 2:
+        raise InvalidInputError(f"Expected a grid of at least 2 nodes, got rows={rows} and "
+                                f"columns={columns}.", field="rows")
 
 
 def _initial(x: FloatArray, grid: FloatArray, r: int, c: int, init: str,

@@ -6,27 +6,36 @@ that 100,000 points run in minutes."""
 
 from __future__ import annotations
 
+import typing
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.params import Ge, Gt, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray, IntArray, RngLike
-from algorithms.core.validation import as_choice, as_float, as_int, as_points
+from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_points
 from algorithms.embedding._fft_gradients import repulsion_fft
 from algorithms.embedding._quality import _screen, fix_signs, trustworthiness
 
-__all__ = ["TSNEResult", "tsne", "METHODS", "INITS", "MAX_EXACT_POINTS", "AUTO_EXACT_BELOW"]
+__all__ = ["TSNEResult", "tsne", "Method", "Start", "LearningRate", "METHODS", "INITS",
+           "MAX_EXACT_POINTS", "AUTO_EXACT_BELOW", "check_perplexity", "resolve_method"]
 
+Method = Literal["auto", "exact", "fft"]
+"""How t-SNE computes its gradient: all pairs, or the repulsion by FFT interpolation."""
+Start = Literal["pca", "random"]
+"""Where t-SNE and SNE start: scaled PCA scores, or small Gaussian draws."""
+LearningRate = Annotated[float, Gt(0)] | Literal["auto"]
+"""A step size > 0, or "auto": one that follows the number of points and the exaggeration."""
 #: Accepted values of ``method`` and ``init``.
-METHODS = ("auto", "exact", "fft")
-INITS = ("pca", "random")
+METHODS: tuple[str, ...] = typing.get_args(Method)
+INITS: tuple[str, ...] = typing.get_args(Start)
 #: Most points for ``method="exact"`` (all pairs each iteration: O(n²) time).
 MAX_EXACT_POINTS = 5_000
 #: ``method="auto"`` is exact below this many points (and for ``n_components > 2``).
@@ -434,38 +443,65 @@ def initial_embedding(x: FloatArray, k: int, init: str, rng: np.random.Generator
     return y
 
 
-def check_common(points: Any, *, n_components: int, perplexity: float, init: str,
-                 max_iterations: int, early_exaggeration: float,
-                 exaggeration_iterations: int, learning_rate: float | str | None,
-                 ) -> tuple[FloatArray, int, float, str, int, float, int, float | None]:
-    """Validation shared by t-SNE and SNE; returns the checked values in order (the points
-    C-contiguous and aligned, as :func:`as_points` gives them: see :func:`_aligned`)."""
-    x = as_points(points, name="points", min_points=2)
-    n = x.shape[0]
-    k = as_int(n_components, name="n_components", minimum=1)
-    perp = as_float(perplexity, name="perplexity", minimum=0.0, inclusive=(False, True))
-    if perp >= n:
+def check_perplexity(perplexity: float, n: int) -> None:
+    """Raise unless ``perplexity`` is below the number of points ``n`` (a point's Gaussian
+    cannot spread over more neighbours than there are)."""
+    if perplexity >= n:
         raise InvalidInputError(f"Expected `perplexity` to be below the number of `points` "
-                                f"({n}), got {perp:g}.", field="perplexity")
-    init = as_choice(init, INITS, name="init")
-    iters = as_int(max_iterations, name="max_iterations", minimum=1)
-    ee = as_float(early_exaggeration, name="early_exaggeration", minimum=1.0)
-    ee_it = as_int(exaggeration_iterations, name="exaggeration_iterations", minimum=0)
-    if learning_rate is None or isinstance(learning_rate, str):
-        if learning_rate is not None:
-            as_choice(learning_rate, ("auto",), name="learning_rate")
-        lr: float | None = None                        # per phase, in _descend
-    else:
-        lr = as_float(learning_rate, name="learning_rate", minimum=0.0, inclusive=False)
-    return x, k, perp, init, iters, ee, ee_it, lr
+                                f"({n}), got {perplexity:g}.", field="perplexity")
 
 
-def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
-         method: str = "auto", init: str = "pca", learning_rate: float | str | None = "auto",
-         max_iterations: int = 750, early_exaggeration: float = 12.0,
-         exaggeration_iterations: int = 250, min_grad_norm: float = 1e-7,
-         seed: RngLike = 0, quality_neighbors: int = 5,
-         progress: Progress | None = None) -> TSNEResult:
+def resolve_method(method: str, n: int, n_components: int) -> Literal["exact", "fft"]:
+    """The gradient t-SNE uses for ``n`` points in ``n_components`` dimensions: ``method``,
+    or for ``"auto"`` exact below :data:`AUTO_EXACT_BELOW` points or above 2 dimensions,
+    else fft. Raises when the exact gradient gets more than :data:`MAX_EXACT_POINTS`
+    points or the fft one more than 2 dimensions."""
+    exact = method == "exact" or (method == "auto" and (n < AUTO_EXACT_BELOW
+                                                         or n_components > 2))
+    if exact and n > MAX_EXACT_POINTS:
+        if method == "exact":
+            raise InvalidInputError(f"Expected at most {MAX_EXACT_POINTS:,} `points` for "
+                                    f"method = 'exact' (O(n²) per step), got {n:,}; use "
+                                    f"method = 'fft' (n_components <= 2).", field="method")
+        raise InvalidInputError(f"Expected `n_components` <= 2 for {n:,} `points` (more "
+                                f"dimensions need the exact gradient, O(n²) per step, at "
+                                f"most {MAX_EXACT_POINTS:,} points), got {n_components}.",
+                                field="n_components")
+    if not exact and n_components > 2:
+        raise InvalidInputError(f"Expected `n_components` <= 2 for method = 'fft', got "
+                                f"{n_components}; use method = 'exact'.", field="n_components")
+    return "exact" if exact else "fft"
+
+
+def check_common(points: Any, *, perplexity: float, learning_rate: float | str
+                 ) -> tuple[FloatArray, float | None]:
+    """The checks of the data shared by t-SNE and SNE: the points (C-contiguous and
+    aligned, as :func:`as_points` gives them: see :func:`_aligned`), the perplexity below
+    their number; and the learning rate, None for ``"auto"`` (chosen per phase in
+    :func:`_descend`)."""
+    x = as_points(points, name="points", min_points=2)
+    check_perplexity(perplexity, x.shape[0])
+    lr = None if isinstance(learning_rate, str) else learning_rate
+    return x, lr
+
+
+@validate_params
+def tsne(
+    points: PointsLike,
+    *,
+    n_components: Annotated[int, Ge(1)] = 2,
+    perplexity: Annotated[float, Gt(0)] = 30.0,
+    method: Method = "auto",
+    init: Start = "pca",
+    learning_rate: LearningRate = "auto",
+    max_iterations: Annotated[int, Ge(1)] = 750,
+    early_exaggeration: Annotated[float, Ge(1)] = 12.0,
+    exaggeration_iterations: Annotated[int, Ge(0)] = 250,
+    min_grad_norm: Annotated[float, Ge(0)] = 1e-7,
+    seed: Seed = 0,
+    quality_neighbors: Annotated[int, Ge(1)] = 5,
+    progress: Progress | None = None,
+) -> TSNEResult:
     r"""t-SNE (van der Maaten and Hinton 2008).
 
     Input affinities: for each point a Gaussian over its neighbours, its precision
@@ -491,38 +527,46 @@ def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
     Parameters
     ----------
     points : (n, D) float array
-        At least 2 points.
+        The data, one row per point; at least 2 points.
     n_components : int, default 2
         The embedding's dimension ``k``. ``method="fft"`` needs ``k <= 2``; larger ``k``
         is exact only (at most 5,000 points).
     perplexity : float, default 30
-        The effective number of neighbours, ``0 < perplexity < n``.
+        The effective number of neighbours of each point's Gaussian (its entropy is
+        :math:`\log(\text{perplexity})`, found by binary search), ``0 < perplexity < n``.
     method : {"auto", "exact", "fft"}, default "auto"
         ``"exact"``: all pairs each iteration, affinities over all pairs (as scikit-learn's
         ``method="exact"``; at most 5,000 points). ``"fft"``: affinities over the
-        :math:`\min(n-1, \lfloor 3\,\text{perplexity}\rfloor)` nearest neighbours, the
-        repulsion by FFT-accelerated interpolation (FIt-SNE; openTSNE's default).
-        ``"auto"``: exact below 500 points or for ``k > 2``, else fft.
+        :math:`\min(n - 1, 3\,\text{perplexity})` nearest neighbours (rounded down), the
+        repulsion by FFT-accelerated interpolation (FIt-SNE; openTSNE's default;
+        ``n_components <= 2``). ``"auto"``: exact below 500 points or for
+        ``n_components > 2``, else fft.
     init : {"pca", "random"}, default "pca"
-        The start: PCA scores scaled to a first-column standard deviation of 1e-4
-        (openTSNE, scikit-learn), or Gaussian draws of that size from ``seed``.
+        The start: ``"pca"`` the PCA scores scaled to a first-column standard deviation
+        of 1e-4 (openTSNE, scikit-learn), ``"random"`` Gaussian draws of that size from
+        ``seed``.
     learning_rate : float or "auto", default "auto"
-        The step. ``"auto"`` (or None): :math:`\max(n / 4\alpha, 50)` with :math:`\alpha` the
-        exaggeration in force — scikit-learn's :math:`\max(n / 4 \cdot 12, 50)` during
+        The step, ``> 0``. ``"auto"``: :math:`\max(n / 4\alpha, 50)` with :math:`\alpha`
+        the exaggeration in force — scikit-learn's :math:`\max(n / 4 \cdot 12, 50)` during
         the exaggeration, then openTSNE's :math:`n / \alpha` (openTSNE's gradient lacks
         the factor 4) with :math:`\alpha = 1`, 12× larger, which converges in fewer steps.
     max_iterations : int, default 750
         Gradient steps in all, the exaggeration phase included (openTSNE's 250 + 500;
         scikit-learn's ``max_iter`` is 1000 with its smaller step).
     early_exaggeration : float, default 12
+        The factor :math:`\alpha \ge 1` on :math:`P` during the first
+        ``exaggeration_iterations`` steps (it pulls clusters together early on).
     exaggeration_iterations : int, default 250
+        The number of steps with :math:`P` multiplied by ``early_exaggeration``;
+        counted in ``max_iterations``.
     min_grad_norm : float, default 1e-7
         After the exaggeration phase, stop once the gradient's norm falls below this.
     seed : int or numpy Generator, default 0
         Draws the random start (and the extra columns of a PCA start when ``k`` exceeds
         the data's dimension); the same seed gives the same embedding.
     quality_neighbors : int, default 5
-        The neighbourhood size of the reported trustworthiness.
+        The neighbourhood size of the reported trustworthiness (clipped to
+        ``(n - 1) // 2`` when larger).
     progress : callable, optional
         ``progress(done, total, message)`` every iteration (the KL every 50); may raise
         :class:`~algorithms.core.errors.Cancelled`.
@@ -535,9 +579,10 @@ def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
     Raises
     ------
     InvalidInputError
-        Bad ``points`` (fewer than 2, NaN); ``perplexity`` not in ``(0, n)``;
-        ``method="exact"`` with more than 5,000 points; ``method="fft"`` with
-        ``n_components > 2``; a non-positive learning rate; an unknown option.
+        Bad ``points`` (fewer than 2, NaN); ``perplexity`` not in ``(0, n)``; the exact
+        gradient (``method="exact"``, or ``"auto"`` with ``n_components > 2``) for more
+        than 5,000 points; ``method="fft"`` with ``n_components > 2``; a non-positive
+        learning rate; an unknown option.
     Cancelled
         Raised by ``progress``.
 
@@ -569,17 +614,19 @@ def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
     chunks, scattered to both ends). All sums run in a fixed order: the same ``seed``
     gives the same bits. Everything runs in one thread (BLAS limited to one).
 
-    The seed document reads t-SNE in three ways. As a mixture model: the Gaussian mixture
-    (SNE) replaced by a Student-t mixture, which works better. As interpolation: a
-    constant function 1 carried by inverse-distance-weighting interpolation, whose
-    weights are the normalised :math:`q_{ij}` — the seed remarks that the paper's
-    denominator misses a term; here the normaliser :math:`Z` is the sum over *all*
-    ordered pairs :math:`k \ne l`, and the gradient's :math:`q_{ij}` uses that same
-    :math:`Z`. As an adaptive Laplacian: with weights :math:`1/(1 + d^2)` ("inverse
-    squared distance, the paper adds one to avoid dividing by zero"), the gradient is
-    :math:`4 (L_{P \circ W} - L_{Q \circ W})\, Y` — the difference of two graph
-    Laplacians, the second rebuilt from :math:`Y` every step ("gradient is
-    :math:`(L_X - L_Y) y`"); that is how the exact path computes it, in blocks of rows.
+    Three readings of t-SNE. As a mixture model: SNE's Gaussian mixture in the embedding
+    replaced by a Student-t one, whose heavy tails let moderately distant points sit far
+    apart (SNE crowds them together: :func:`~algorithms.embedding.sne`). As
+    interpolation: a constant function 1 carried by inverse-distance-weighting
+    interpolation, whose weights are the normalised :math:`q_{ij}`; the normaliser must
+    then be the sum over *all* ordered pairs, :math:`Z = \sum_{k \ne l} w_{kl}` (a
+    normaliser over the pairs of :math:`i` alone would be SNE's per-point conditional
+    :math:`q_{j|i}`, not the joint :math:`q_{ij}` the gradient above assumes), and the
+    gradient's :math:`q_{ij}` uses that same :math:`Z`. As an adaptive Laplacian: with
+    weights :math:`w_{ij} = 1/(1 + d_{ij}^2)` (an inverse squared distance, the 1 keeping
+    it finite at :math:`d = 0`), the gradient is :math:`4 (L_{P \circ W} - L_{Q \circ
+    W})\, Y` — the difference of two graph Laplacians, the second rebuilt from :math:`Y`
+    every step; that is how the exact path computes it, in blocks of rows.
 
     Cost: exact :math:`O(n^2)` per step; fft :math:`O(n k_P + N^2 \log N)` per step with
     :math:`k_P \approx 3\,\text{perplexity}` stored pairs per point and :math:`N` the grid
@@ -594,7 +641,6 @@ def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
        data", Nature Methods 16 (2019).
     .. [3] P. G. Poličar, M. Stražar, B. Zupan, "openTSNE: a modular Python library for
        t-SNE dimensionality reduction and embedding", J. Stat. Softw. 109 (2024).
-    .. [4] The seed document, section "stochastic neighbor embedding".
 
     Examples
     --------
@@ -606,22 +652,9 @@ def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
     ('exact', (60, 2), True)
     """
     report = as_progress(progress)
-    x, k, perp, init, iters, ee, ee_it, lr = check_common(
-        points, n_components=n_components, perplexity=perplexity, init=init,
-        max_iterations=max_iterations, early_exaggeration=early_exaggeration,
-        exaggeration_iterations=exaggeration_iterations, learning_rate=learning_rate)
-    n = x.shape[0]
-    method = as_choice(method, METHODS, name="method")
-    mgn = as_float(min_grad_norm, name="min_grad_norm", minimum=0.0)
-    if method == "auto":
-        method = "exact" if n < AUTO_EXACT_BELOW or k > 2 else "fft"
-    if method == "exact" and n > MAX_EXACT_POINTS:
-        raise InvalidInputError(f"Expected at most {MAX_EXACT_POINTS:,} `points` for "
-                                f"method = 'exact' (O(n²) per step), got {n:,}; use "
-                                f"method = 'fft' (n_components <= 2).", field="method")
-    if method == "fft" and k > 2:
-        raise InvalidInputError(f"Expected `n_components` <= 2 for method = 'fft', got "
-                                f"{k}; use method = 'exact'.", field="n_components")
+    x, lr = check_common(points, perplexity=perplexity, learning_rate=learning_rate)
+    k, perp, iters = n_components, perplexity, max_iterations
+    method = resolve_method(method, x.shape[0], k)
     rng = np.random.default_rng(seed)
     y = initial_embedding(x, k, init, rng)
     report(0, iters, "affinities")
@@ -642,9 +675,9 @@ def tsne(points: Any, *, n_components: int = 2, perplexity: float = 30.0,
             return attraction.plogp - plogw + np.log(z), 4.0 * (alpha * att - rep / z)
 
     with single_blas_thread():
-        y, done = _descend(y, gradient, max_iterations=iters, exaggeration=ee,
-                           exaggeration_iterations=ee_it, learning_rate=lr,
-                           min_grad_norm=mgn, report=report, what="t-SNE",
+        y, done = _descend(y, gradient, max_iterations=iters, exaggeration=early_exaggeration,
+                           exaggeration_iterations=exaggeration_iterations, learning_rate=lr,
+                           min_grad_norm=min_grad_norm, report=report, what="t-SNE",
                            style="sklearn" if method == "exact" else "opentsne")
         kl, _ = gradient(y, 1.0, True)
     y = fix_signs(y)

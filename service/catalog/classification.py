@@ -1,57 +1,47 @@
 """Catalog entries of the classification family (labelled points in: a discriminating
-projection and class predictions out). Imported by :mod:`service.catalog.clustering`."""
+projection and class predictions out)."""
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Any
 
-import numpy as np
-from pydantic import Field, PlainSerializer, PlainValidator, WithJsonSchema, model_validator
-
-from algorithms.classification import LDAResult, NCAResult, lda, nca
-from algorithms.classification._common import as_labels
+from algorithms.classification import as_labels, lda, nca
 from algorithms.core.errors import InvalidInputError
-from service.catalog.base import Params
-from service.catalog.inputs import Labels, Points
+from algorithms.core.params import Le
 from service import scenes
 from service.catalog.registry import Process, registry
 
+_EXAMPLES = {"points": [[0, 0], [1, 0], [0, 1], [1, 1.5], [5, 5], [6, 5], [5, 6], [6.5, 6]],
+             "labels": ["a", "a", "a", "a", "b", "b", "b", "b"],
+             "query": [[0.5, 0.5], [5.5, 5.0]]}
 
 
-_POINTS = [[0, 0], [1, 0], [0, 1], [1, 1.5], [5, 5], [6, 5], [5, 6], [6.5, 6]]
-_LABELS = ["a", "a", "a", "a", "b", "b", "b", "b"]
-_QUERY = [[0.5, 0.5], [5.5, 5.0]]
+def _supervised(p: Any) -> tuple[int, int]:
+    """One label per point, at least 2 classes; query points of the points' dimension."""
+    n, d = p.points.shape
+    classes, _ = as_labels(p.labels, n)
+    if p.query is not None and p.query.shape[1] != d:
+        raise InvalidInputError(f"Expected `query` to have the dimension of `points` "
+                                f"({d}), got shape {p.query.shape}.", field="query")
+    return d, classes.shape[0]
 
 
-class _Supervised(Params):
-    points: Points = Field(description="The training points, (n, d).", examples=[_POINTS])
-    labels: Labels = Field(description="The class of each point (integers or strings), at "
-                           "least 2 classes.", examples=[_LABELS])
-    query: Points | None = Field(None, description="Points to embed and classify with the "
-                                 "fitted model, (m, d).", examples=[_QUERY])
-
-    def _check(self) -> tuple[int, int, int]:
-        n, d = self.points.shape
-        classes, _ = as_labels(self.labels, n)
-        if self.query is not None and self.query.shape[1] != d:
-            raise InvalidInputError(f"Expected `query` to have the dimension of `points` "
-                                    f"({d}), got shape {self.query.shape}.", field="query")
-        return n, d, classes.shape[0]
+def _at_most(p: Any, limit: int, what: str) -> None:
+    if p.n_components is not None and p.n_components > limit:
+        raise InvalidInputError(f"Expected `n_components` to be at most {what}, got "
+                                f"{p.n_components}.", field="n_components")
 
 
-class LDAParams(_Supervised):
-    n_components: int | None = Field(None, ge=1, description="The number of discriminant "
-                                     "directions, at most min(classes − 1, d); that maximum "
-                                     "by default.")
+def _lda(p: Any) -> None:
+    """Labels and query that fit the points; n_components at most min(classes − 1, d)."""
+    d, c = _supervised(p)
+    _at_most(p, min(c - 1, d), f"min(classes − 1, d) = min({c - 1}, {d})")
 
-    @model_validator(mode="after")
-    def _sizes(self) -> LDAParams:
-        _, d, c = self._check()
-        if self.n_components is not None and self.n_components > min(c - 1, d):
-            raise InvalidInputError(
-                f"Expected `n_components` to be at most min(classes − 1, d) = "
-                f"min({c - 1}, {d}), got {self.n_components}.", field="n_components")
-        return self
+
+def _nca(p: Any) -> None:
+    """Labels and query that fit the points; n_components at most their dimension."""
+    d, _ = _supervised(p)
+    _at_most(p, d, f"the dimension of `points` ({d})")
 
 
 registry.add(Process(
@@ -63,36 +53,12 @@ registry.add(Process(
     "them, and the Gaussian shared-covariance classifier's predictions for the points and "
     "optional query points. Reports accuracy, explained variance and trustworthiness.",
     function=lda,
-    params=LDAParams,
-    result=LDAResult,
-    reference="Fisher, R. A. (1936). The use of multiple measurements in taxonomic problems. "
-    "Annals of Eugenics 7(2), 179–188.",
+    examples=_EXAMPLES,
+    check=_lda,
     fast_path=True,
     keywords=("lda", "fisher discriminant", "linear discriminant analysis",
               "supervised dimensionality reduction", "classification"),
 ))
-
-
-class NCAParams(_Supervised):
-    n_components: int | None = Field(None, ge=1, description="The output dimension k, at "
-                                     "most d; d by default.", examples=[1])
-    init: Literal["auto", "pca", "lda", "identity", "random"] = Field(
-        "auto", description="The starting map: auto (LDA when k ≤ min(d, classes − 1), else "
-        "PCA when k < d, else the identity), pca, lda, identity or random (drawn with seed).")
-    max_iterations: int = Field(50, ge=1, le=10_000, description="Most L-BFGS iterations.")
-    tolerance: float = Field(1e-5, ge=0, description="L-BFGS stops when the relative "
-                             "decrease of the objective or the gradient falls below this.")
-    seed: int = Field(0, ge=0, description="Seed of the random start.")
-
-    @model_validator(mode="after")
-    def _sizes(self) -> NCAParams:
-        _, d, _ = self._check()
-        if self.n_components is not None and self.n_components > d:
-            raise InvalidInputError(f"Expected `n_components` to be at most the dimension of "
-                                    f"`points` ({d}), got {self.n_components}.",
-                                    field="n_components")
-        return self
-
 
 registry.add(Process(
     id="classification.nca",
@@ -103,10 +69,9 @@ registry.add(Process(
     "scikit-learn. Reports the map, the embedding, leave-one-out 1-NN accuracy, query "
     "predictions and trustworthiness. Progress per iteration, cancellable.",
     function=nca,
-    params=NCAParams,
-    result=NCAResult,
-    reference="Goldberger, J., Roweis, S., Hinton, G., Salakhutdinov, R. (2004). "
-    "Neighbourhood components analysis. NIPS 17.",
+    examples={**_EXAMPLES, "n_components": 1},
+    limits={"max_iterations": Le(10_000)},
+    check=_nca,
     long=True,
     keywords=("nca", "metric learning", "neighbourhood components analysis",
               "supervised dimensionality reduction", "classification"),

@@ -31,11 +31,19 @@ from typing import Annotated, Any
 
 import numpy as np
 from annotated_types import BaseMetadata, Ge, GroupedMetadata, Gt, Le, Lt
-from pydantic import BaseModel, Field, create_model, model_validator
+from pydantic import (
+    BaseModel,
+    Field,
+    PlainValidator,
+    TypeAdapter,
+    WithJsonSchema,
+    create_model,
+    model_validator,
+)
 
 from algorithms.core.params import Declaration, Kind, declarations
-from service.docstrings import numpydoc_entries, numpydoc_references, numpydoc_section, plain
 from service.catalog.base import Params
+from service.docstrings import numpydoc_entries, numpydoc_references, numpydoc_section, plain
 
 __all__ = ["Process", "Output", "Registry", "registry", "input_description", "outputs_of",
            "build_inputs"]
@@ -135,6 +143,15 @@ def _service_hint(hint: Any, kinds: Mapping[Kind, Any]) -> Any:
     return hint
 
 
+def _scalar_union(decl: Declaration, hint: Any) -> Any:
+    """A union of scalars (``float | Literal["auto"]``) checked as the library checks it:
+    one refusal naming the input ("Expected `learning_rate` to be a number > 0 or one of
+    'auto', got 'fast'.") where pydantic would report each member under its own tag
+    (``learning_rate.constrained-float``); its JSON Schema is the union's."""
+    return Annotated[Any, PlainValidator(decl.check),
+                     WithJsonSchema(TypeAdapter(hint).json_schema())]
+
+
 _FIELD_BOUNDS = {Ge: "ge", Gt: "gt", Le: "le", Lt: "lt"}
 
 
@@ -178,6 +195,10 @@ def build_inputs(process_id: str, function: Callable[..., Any], *,
             hint = inputs[name]
         else:
             hint = _service_hint(hints.get(name, Any), kinds)
+            if len(decl.scalars) > 1 and decl.kind is None:
+                if name in limits:
+                    raise TypeError(f"{process_id}: limits on the union input {name!r}")
+                hint = _scalar_union(decl, hint)
         kwargs: dict[str, Any] = {"description": input_description(decl, *docs.get(name, ("", "")))}
         if name in examples:
             kwargs["examples"] = [examples[name]]

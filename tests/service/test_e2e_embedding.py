@@ -50,10 +50,11 @@ def test_methods_agree_with_the_library(http, method: str, inputs: dict[str, Any
 
 
 @pytest.mark.parametrize("method, inputs, field, fragment", [
-    ("isomap", {"points": POINTS[:5], "n_neighbors": 5}, "n_neighbors", "fewer points"),
-    ("lle", {"points": POINTS[:5], "n_neighbors": 7}, "n_neighbors", "fewer points"),
-    ("laplacian_eigenmaps", {"points": POINTS[:4], "n_neighbors": 4}, "n_neighbors", "below"),
-    ("lpp", {"points": POINTS, "n_neighbors": 60}, "n_neighbors", "fewer points"),
+    ("isomap", {"points": POINTS[:5], "n_neighbors": 5}, "n_neighbors", "<= 4, at most"),
+    ("lle", {"points": POINTS[:5], "n_neighbors": 7}, "n_neighbors", "minus one"),
+    ("laplacian_eigenmaps", {"points": POINTS[:4], "n_neighbors": 4}, "n_neighbors",
+     "minus one"),
+    ("lpp", {"points": POINTS, "n_neighbors": 60}, "n_neighbors", "minus one"),
     ("pca", {"points": POINTS, "n_components": 4}, "n_components", "dimension"),
     ("random_projection", {"points": POINTS, "n_components": 5}, "n_components", "dimension"),
     ("lpp", {"points": POINTS, "n_components": 4}, "n_components", "dimension"),

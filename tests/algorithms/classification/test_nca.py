@@ -54,8 +54,9 @@ def test_gradient_matches_finite_differences() -> None:
         seen["fun"], seen["x0"] = fun, x0
         return original(fun, x0, **kw)
 
-    import algorithms.classification.nca as mod  # noqa: F401
     import sys
+
+    import algorithms.classification.nca as mod  # noqa: F401
 
     m = sys.modules["algorithms.classification.nca"]
     old = m.minimize

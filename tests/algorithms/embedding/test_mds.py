@@ -45,7 +45,7 @@ def test_metric_refinement_lowers_stress() -> None:
 
 
 def test_errors() -> None:
-    with pytest.raises(InvalidInputError, match="n_components.*number of `points` \\(3\\)"):
+    with pytest.raises(InvalidInputError, match=r"n_components.*<= 3 \(the number of `points`\)"):
         mds(np.eye(3), n_components=4)
     with pytest.raises(InvalidInputError, match="at most 4000 points"):
         mds(np.zeros((4001, 2)))

@@ -1,6 +1,6 @@
 """embedding.laplacian_eigenmaps: a path graph by hand, the generalized eigen-equations,
-scikit-learn's SpectralEmbedding on the same weights (Procrustes < 1e-6), the seed's
-symmetric variant, disconnected graphs, errors."""
+scikit-learn's SpectralEmbedding on the same weights (Procrustes < 1e-6), the symmetric
+variant (y = D^½ v), disconnected graphs, errors."""
 
 from __future__ import annotations
 
@@ -12,8 +12,7 @@ from sklearn.manifold import SpectralEmbedding
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.embedding import laplacian_eigenmaps
-from algorithms.embedding.laplacian_eigenmaps import similarity_graph
-from algorithms.embedding.laplacian_eigenmaps import spectral_embedding
+from algorithms.embedding.laplacian_eigenmaps import similarity_graph, spectral_embedding
 
 DATA = {
     "swiss_roll": make_swiss_roll(400, random_state=0)[0],

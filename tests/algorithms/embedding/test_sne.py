@@ -1,6 +1,7 @@
 """Symmetric SNE: a hand case, the gradient against finite differences, the descent lowers
-the KL from its start and separates clusters, t-SNE beats it on clustered data (the seed
-document's remark), determinism, progress and cancellation, errors."""
+the KL from its start and separates clusters, t-SNE beats it on clustered data (its heavy
+tails keep neighbourhoods that SNE's Gaussian crowds), determinism, progress and
+cancellation, errors."""
 
 from __future__ import annotations
 
@@ -81,7 +82,7 @@ def test_descent_lowers_kl_and_separates_clusters() -> None:
 
 
 def test_tsne_keeps_neighbourhoods_better_than_sne() -> None:
-    # the seed document: the Student-t mixture "works better" than the Gaussian one
+    # the Student-t kernel's heavy tails keep apart what the Gaussian one crowds together
     x, _ = make_blobs(200, n_features=10, centers=4, random_state=0)
     a = sne(x, max_iterations=500)
     b = tsne(x, max_iterations=500)
