@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from algorithms.core.pairs import Pairs, flat_error, prepare
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, warn
 from algorithms.core.linalg import RANK_RTOL, homogeneous, numerical_rank
+from algorithms.core.pairs import Pairs, flat_error, prepare
 from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
 
@@ -238,11 +237,10 @@ def _symmetric_fit(
         f = f_new
         if np.linalg.norm(step) <= STEP_RTOL * np.linalg.norm(a):
             return a, iteration, True
-    warnings.warn(
+    warn(
         f"The symmetric affine fit stopped after {MAX_NEWTON} Newton steps without meeting "
         "its tolerance; the result is the best map found.",
         ConvergenceWarning,
-        stacklevel=3,
     )
     return a, MAX_NEWTON, False
 

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from algorithms.core.pairs import Pairs, flat_error, prepare
 from algorithms.core.errors import DegenerateInputError
 from algorithms.core.linalg import RANK_RTOL, homogeneous, numerical_rank
+from algorithms.core.pairs import Pairs, flat_error, prepare
 from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
 

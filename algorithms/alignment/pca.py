@@ -10,8 +10,8 @@ from typing import Literal, get_args
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.core.pairs import flat_error
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, numerical_rank
+from algorithms.core.pairs import flat_error
 from algorithms.core.params import PointsLike, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_points, same_dim

@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from algorithms.core.pairs import one_per_dimension, prepare, rotation_fit
 from algorithms.core.linalg import homogeneous
+from algorithms.core.pairs import one_per_dimension, prepare, rotation_fit
 from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from algorithms.core.pairs import one_per_dimension, prepare, rotation_fit
 from algorithms.core.linalg import RANK_RTOL as RANK_RTOL  # re-exported: documented below
 from algorithms.core.linalg import homogeneous
+from algorithms.core.pairs import one_per_dimension, prepare, rotation_fit
 from algorithms.core.params import PointsLike, WeightsLike, validate_params
 from algorithms.core.types import FloatArray
 

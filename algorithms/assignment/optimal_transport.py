@@ -17,7 +17,7 @@ from algorithms.assignment._dense import (
     cost_matrix,
     pair_distances,
 )
-from algorithms.core.errors import ConvergenceWarning, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.params import Ge, Gt, PointsLike, WeightsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
@@ -331,12 +331,11 @@ def optimal_transport(
             cost, a, b, reg, max_iterations, tolerance, report
         )
         if not converged:
-            warnings.warn(
+            warn(
                 f"Sinkhorn stopped after {iterations} iterations with a marginal error of "
                 f"{err:.3g}, above the tolerance {tolerance:.3g}; raise `max_iterations` or "
                 "`reg`.",
                 ConvergenceWarning,
-                stacklevel=2,
             )
     del cost
 

@@ -4,7 +4,6 @@ neighbour classifier is most often right."""
 from __future__ import annotations
 
 import typing
-import warnings
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
@@ -13,7 +12,7 @@ import scipy.linalg as la
 from scipy.optimize import minimize
 
 from algorithms.classification._common import as_labels, fix_signs
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
 from algorithms.core.params import Ge, LabelsLike, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray, RngLike
@@ -220,9 +219,8 @@ def nca(
     emb = emb * sign
     converged = res.status == 0  # 1: iteration limit
     if not converged:
-        warnings.warn(f"NCA stopped after {int(res.nit)} iterations before the objective "
-                      f"changed by less than {tol:g}.", ConvergenceWarning,
-                      stacklevel=3)  # the caller of the validate_params wrapper
+        warn(f"NCA stopped after {int(res.nit)} iterations before the objective "
+             f"changed by less than {tol:g}.", ConvergenceWarning)
     objective = -float(res.fun)
     nearest = _nearest(emb, emb, exclude_self=True)
     if q is not None:

@@ -3,7 +3,6 @@ matrix until it stops changing; its attractors name the clusters."""
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Annotated, Any
 
@@ -12,7 +11,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from algorithms.clustering._kmeans import canonical_labels
-from algorithms.core.errors import ConvergenceWarning, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.graphs import GraphWeighting, Neighbors, as_graph, edge_graph, neighbour_graph
 from algorithms.core.params import Ge, GraphLike, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
@@ -200,9 +199,9 @@ def markov(
             converged = True
             break
     if not converged:
-        warnings.warn(f"Markov clustering stopped after {it} iterations before the matrix "
-                      f"changed by less than {tolerance:g}; labels are read from the last matrix.",
-                      ConvergenceWarning, stacklevel=2)
+        warn(f"Markov clustering stopped after {it} iterations before the matrix "
+             f"changed by less than {tolerance:g}; labels are read from the last matrix.",
+             ConvergenceWarning)
     labels, attractors = _read_clusters(m.tocsc())
     labels, _ = canonical_labels(labels)
     sizes = np.bincount(labels)

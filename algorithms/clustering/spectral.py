@@ -3,7 +3,6 @@ normalised graph Laplacian."""
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Annotated
 
@@ -14,7 +13,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import eigsh
 
 from algorithms.clustering._kmeans import kmeans
-from algorithms.core.errors import InvalidInputError
+from algorithms.core.errors import InvalidInputError, warn
 from algorithms.core.graphs import GraphWeighting, Neighbors, neighbour_graph
 from algorithms.core.laplacian import normalized_laplacian
 from algorithms.core.params import Ge, Gt, PointsLike, Seed, validate_params
@@ -174,9 +173,9 @@ def spectral(
                         weighting=weighting, sigma=sigma)
     ncomp = int(connected_components(w, directed=False)[0])
     if ncomp > k:
-        warnings.warn(f"The neighbour graph of `points` has {ncomp} connected components, "
-                      f"more than n_clusters={k}: some clusters hold several components.",
-                      UserWarning, stacklevel=2)
+        warn(f"The neighbour graph of `points` has {ncomp} connected components, "
+             f"more than n_clusters={k}: some clusters hold several components.",
+             UserWarning)
     vals, vecs = _bottom_eigenvectors(w, k)
     # deterministic signs: each column's largest entry positive
     big = np.argmax(np.abs(vecs), axis=0)

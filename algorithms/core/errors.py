@@ -24,12 +24,16 @@ problem+json ``errors`` entry. Not converging is not an error: results carry
 
 from __future__ import annotations
 
+import sys
+import warnings
+
 __all__ = [
     "GeometryError",
     "InvalidInputError",
     "DegenerateInputError",
     "Cancelled",
     "ConvergenceWarning",
+    "warn",
 ]
 
 
@@ -75,3 +79,19 @@ class Cancelled(GeometryError):
 
 class ConvergenceWarning(UserWarning):
     """An iterative method reached its iteration limit before its tolerance."""
+
+
+def warn(message: str, category: type[Warning] = ConvergenceWarning) -> None:
+    """Issue a warning attributed to the first caller outside this library.
+
+    A fixed ``stacklevel`` points at the wrong line as soon as a function is reached through
+    another (a validating wrapper, a dispatcher such as ``multiway``, ICP's PCA start), so
+    the frames of ``algorithms`` are skipped: the warning names the user's line that called
+    the library (or the service's runner)."""
+    frame = sys._getframe(1)
+    level = 2  # warnings.warn's stacklevel of our caller
+    while frame.f_back is not None and str(frame.f_globals.get("__name__", "")).startswith(
+            "algorithms."):
+        frame = frame.f_back
+        level += 1
+    warnings.warn(message, category, stacklevel=level)

@@ -2,14 +2,13 @@ r"""As-rigid-as-possible surface deformation (Sorkine & Alexa 2007), local/globa
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 import scipy.sparse as sp
 
-from algorithms.core.errors import ConvergenceWarning, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.laplacian import cotangent_entries, cotangent_laplacian
 from algorithms.core.linalg import RotationFitter
 from algorithms.core.linsolve import Factor, available_backends
@@ -300,9 +299,9 @@ class ArapSolver:
                 converged = True
                 break
         if not converged and tolerance > 0:
-            warnings.warn(f"ARAP stopped after {max_iterations} iterations with the energy "
-                          f"still falling faster than tolerance={tolerance}.",
-                          ConvergenceWarning, stacklevel=2)
+            warn(f"ARAP stopped after {max_iterations} iterations with the energy "
+                 f"still falling faster than tolerance={tolerance}.",
+                 ConvergenceWarning)
         x = np.empty((n, d))
         x[self._free] = x_f
         x[self.pins.indices] = c

@@ -3,14 +3,13 @@ regularise (after Optimized Scale-and-Stretch, Wang et al. 2008)."""
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Annotated
 
 import numpy as np
 import scipy.sparse as sp
 
-from algorithms.core.errors import ConvergenceWarning
+from algorithms.core.errors import ConvergenceWarning, warn
 from algorithms.core.linsolve import PinnedSystem
 from algorithms.core.mesh import Mesh, read_mesh
 from algorithms.core.params import Ge, HandlesLike, MeshLike, validate_params
@@ -209,9 +208,9 @@ def isotropic_scaling(
             converged = True
             break
     if not converged and tolerance > 0:
-        warnings.warn(f"isotropic_scaling stopped after {max_iterations} iterations with "
-                      f"vertices still moving more than tolerance={tolerance} of the mesh's "
-                      "size per iteration.", ConvergenceWarning, stacklevel=2)
+        warn(f"isotropic_scaling stopped after {max_iterations} iterations with "
+             f"vertices still moving more than tolerance={tolerance} of the mesh's "
+             "size per iteration.", ConvergenceWarning)
     return IsotropicScalingResult(mesh=Mesh(x, f), scales=s, energy=np.array(energies),
                                   handle_residual=handle_residual(x, h),
                                   iterations=len(energies), converged=converged)

@@ -3,7 +3,6 @@ r"""Classical multidimensional scaling, from a full or a partial distance matrix
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 from typing import Annotated
 
@@ -12,7 +11,7 @@ import scipy.linalg as la
 from scipy.sparse.linalg import eigsh
 from scipy.spatial.distance import cdist
 
-from algorithms.core.errors import ConvergenceWarning
+from algorithms.core.errors import ConvergenceWarning, warn
 from algorithms.core.params import ArrayInput, Ge, GraphLike, validate_params
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray, IntArray
@@ -214,8 +213,8 @@ def mds(
         squared, used, converged = complete_squared_distances(d, r, max_iterations, tolerance)
     missing = int(np.count_nonzero(np.isnan(np.triu(d, 1))))
     if not converged:
-        warnings.warn(f"The distance completion stopped after {used} iterations before "
-                      f"reaching tolerance {tolerance:g}.", ConvergenceWarning, stacklevel=2)
+        warn(f"The distance completion stopped after {used} iterations before "
+             f"reaching tolerance {tolerance:g}.", ConvergenceWarning)
     x, eigenvalues = classical_coordinates(squared, k)
     stress_value, total = raw_stress(x, d)
     return MDSResult(

@@ -4,7 +4,6 @@ weighted least-squares sense."""
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 from typing import Annotated, Literal, get_args
 
@@ -12,7 +11,7 @@ import numpy as np
 import scipy.linalg as la
 from scipy.spatial.distance import cdist
 
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
 from algorithms.core.params import (
     ArrayInput,
     Ge,
@@ -282,10 +281,9 @@ def stress(
             converged = (it > 1 and s - s_new < tolerance * eta2) or s_new <= floor
             s = s_new
     if not converged and max_iterations > 0:
-        warnings.warn(f"Stress majorization stopped after {it} iterations before the "
-                      f"decrease fell below {tolerance:g} of the squared distances.",
-                      ConvergenceWarning,
-                      stacklevel=2)
+        warn(f"Stress majorization stopped after {it} iterations before the "
+             f"decrease fell below {tolerance:g} of the squared distances.",
+             ConvergenceWarning)
     return StressResult(
         positions=x,
         stress=float(s),

@@ -24,12 +24,10 @@ to :math:`b`) in an isometric frame of the face, :math:`J_t` the face's Jacobian
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import scipy.sparse as sp
 
-from algorithms.core.errors import ConvergenceWarning
+from algorithms.core.errors import ConvergenceWarning, warn
 from algorithms.core.laplacian import cotangent_entries, cotangent_laplacian
 from algorithms.core.linsolve import PinnedSystem
 from algorithms.core.mesh import Mesh, face_areas, signed_areas
@@ -132,9 +130,9 @@ class LocalGlobalSolver:
                 converged = True
                 break
         if not converged and tolerance > 0:
-            warnings.warn(f"{name} parameterization stopped after {max_iterations} iterations "
-                          f"with the energy still falling faster than tolerance={tolerance}.",
-                          ConvergenceWarning, stacklevel=3)
+            warn(f"{name} parameterization stopped after {max_iterations} iterations "
+                 f"with the energy still falling faster than tolerance={tolerance}.",
+                 ConvergenceWarning)
         q = quality(self.mesh.vertices, f, uv, self.frames)
         return LocalGlobalResult(uv=uv, mesh=self.mesh, energy=np.array(energies),
                                  iterations=len(energies) - 1, converged=converged,

@@ -4,14 +4,13 @@ lay the mesh out from the angles by a least-squares conformal step."""
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Annotated
 
 import numpy as np
 import scipy.sparse as sp
 
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, warn
 from algorithms.core.laplacian import face_weights, laplacian
 from algorithms.core.linsolve import Factor, PinnedSystem
 from algorithms.core.mesh import Mesh, boundary_edges, face_angles
@@ -409,9 +408,9 @@ def abf(mesh: MeshLike, *, max_iterations: Annotated[int, Ge(1)] = 20,
         report(it, max_iterations, f"iteration {it}: gradient norm {norms[-1]:.3g}")
         converged = norms[-1] <= tolerance
     if not converged and tolerance > 0:
-        warnings.warn(f"ABF stopped after {max_iterations} iterations with the gradient norm "
-                      f"{norms[-1]:.3g} above tolerance={tolerance}.",
-                      ConvergenceWarning, stacklevel=2)
+        warn(f"ABF stopped after {max_iterations} iterations with the gradient norm "
+             f"{norms[-1]:.3g} above tolerance={tolerance}.",
+             ConvergenceWarning)
     angles = alpha.reshape(-1, 3)
     uv, pinned = angles_to_uv(disk, angles)
     m = disk.mesh

@@ -4,7 +4,6 @@ boundary barrier, minimised by SLIM steps with flip-free, crossing-free line sea
 from __future__ import annotations
 
 import importlib.util
-import warnings
 from dataclasses import dataclass
 from typing import Annotated, Any
 
@@ -12,7 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, warn
 from algorithms.core.linsolve import Factor
 from algorithms.core.mesh import Mesh, face_areas, signed_areas
 from algorithms.core.params import Ge, MeshLike, validate_params
@@ -463,9 +462,9 @@ class BijectiveSolver:
                 converged = True
                 break
         if not converged and tolerance > 0:
-            warnings.warn(f"Bijective parameterization stopped after {max_iterations} "
-                          f"iterations with the energy still falling faster than "
-                          f"tolerance={tolerance}.", ConvergenceWarning, stacklevel=3)
+            warn(f"Bijective parameterization stopped after {max_iterations} "
+                 f"iterations with the energy still falling faster than "
+                 f"tolerance={tolerance}.", ConvergenceWarning)
         m = self.mesh
         q = quality(m.vertices, m.faces, uv, self.frames)
         sd = _sd(self.weight, jacobians(self.frames, m.faces, uv))

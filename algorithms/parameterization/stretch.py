@@ -3,7 +3,6 @@ Yoshizawa et al.'s iterative reweighting of a Tutte-type linear system."""
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Annotated, Any
 
@@ -11,7 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, warn
 from algorithms.core.mesh import Mesh
 from algorithms.core.params import Ge, Interval, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
@@ -316,9 +315,9 @@ def stretch_minimizing(
             converged = True
             break
     if not converged and tolerance > 0:
-        warnings.warn(f"Stretch minimization stopped after {max_iterations} iterations with "
-                      f"the L2 stretch still falling faster than tolerance={tolerance}.",
-                      ConvergenceWarning, stacklevel=2)
+        warn(f"Stretch minimization stopped after {max_iterations} iterations with "
+             f"the L2 stretch still falling faster than tolerance={tolerance}.",
+             ConvergenceWarning)
     l2, linf, uv = best
     q = quality(m.vertices, f, uv, frames)
     return StretchResult(uv=uv, mesh=m, pinned=disk.loop.copy(), stretch=np.array(history),

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 import os
-import warnings
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -15,7 +14,7 @@ from typing import Annotated, Any, Literal, get_args
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.core.errors import ConvergenceWarning, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.linalg import procrustes
 from algorithms.core.params import Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
@@ -791,8 +790,7 @@ def cpd(
     dist, _ = tree.query(moved, workers=-1 if m_pts >= 8192 else 1)
     rmse = math.sqrt(float(dist @ dist) / m_pts)
     if not converged:
-        warnings.warn(f"CPD did not converge: {reason}.", ConvergenceWarning,
-                      stacklevel=3)  # the caller of the validating wrapper
+        warn(f"CPD did not converge: {reason}.", ConvergenceWarning)
     if model == "nonrigid":
         return CPDResult(None, None, None, None, None, moved, s2 * sx * sx, rmse, k,
                          converged, reason)

@@ -6,7 +6,6 @@ from __future__ import annotations
 import functools
 import itertools
 import math
-import warnings
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal, get_args
 
@@ -15,7 +14,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from algorithms.alignment import affine, pca, rigid, similarity
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.pairs import rotation_fit, trusted_pairs
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
@@ -553,8 +552,7 @@ def icp(
             best = run
     assert best is not None
     if not best.converged:
-        warnings.warn(f"ICP did not converge: {best.reason}.", ConvergenceWarning,
-                      stacklevel=3)  # the caller of the validating wrapper
+        warn(f"ICP did not converge: {best.reason}.", ConvergenceWarning)
     return _result(best, prob.n, model)
 
 

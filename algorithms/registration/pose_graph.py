@@ -15,7 +15,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components, mini
 from scipy.sparse.linalg import spsolve
 from scipy.spatial import cKDTree
 
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, warn
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.se3 import adjoint, exp, hat, inverse, left_jacobian_inverse, log
@@ -243,8 +243,8 @@ def pose_graph(
     )
     result = _pose_graph(pts, start, opts, report)
     if not result.converged:
-        warnings.warn(f"Pose-graph optimisation did not converge: {result.reason}.",
-                      ConvergenceWarning, stacklevel=3)
+        warn(f"Pose-graph optimisation did not converge: {result.reason}.",
+             ConvergenceWarning)
     return result
 
 

@@ -4,12 +4,11 @@ one frame by a rotation (and scale) each and their mean shape."""
 from __future__ import annotations
 
 import math
-import warnings
 from typing import Annotated, Literal, get_args
 
 import numpy as np
 
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, warn
 from algorithms.core.linalg import homogeneous, procrustes
 from algorithms.core.params import ArrayInput, Ge, validate_params
 from algorithms.core.progress import Progress, as_progress
@@ -158,8 +157,8 @@ def generalized_procrustes(
     start = None if init is None else check_transforms(init, k, d, model)
     result = _procrustes(pts, model, start, max_iterations, tolerance, report)
     if not result.converged:
-        warnings.warn(f"Generalised Procrustes did not converge: {result.reason}.",
-                      ConvergenceWarning, stacklevel=3)
+        warn(f"Generalised Procrustes did not converge: {result.reason}.",
+             ConvergenceWarning)
     return result
 
 

@@ -13,7 +13,7 @@ from typing import Annotated, Any, Literal, get_args
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError
+from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
 from algorithms.core.linalg import RANK_RTOL, numerical_rank, procrustes
 from algorithms.core.params import Ge, Gt, Interval, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
@@ -445,8 +445,7 @@ def ransac(
     inl = dist[dist <= tau]
     rmse = math.sqrt(float(inl @ inl) / inl.size) if inl.size else 0.0
     if not converged:
-        warnings.warn(f"RANSAC did not converge: {reason}.", ConvergenceWarning,
-                      stacklevel=3)  # the caller of the validating wrapper
+        warn(f"RANSAC did not converge: {reason}.", ConvergenceWarning)
     return RANSACResult(
         transform=transform,
         rotation=transform[:d, :d].copy(),

@@ -7,8 +7,8 @@ import igl
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from scipy.sparse.csgraph import laplacian as csgraph_laplacian
 import trimesh
+from scipy.sparse.csgraph import laplacian as csgraph_laplacian
 
 from algorithms.core import InvalidInputError
 from algorithms.core.laplacian import (

@@ -9,8 +9,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 import trimesh
 
-from algorithms.core import DegenerateInputError, InvalidInputError
-from algorithms.core import linsolve
+from algorithms.core import DegenerateInputError, InvalidInputError, linsolve
 from algorithms.core.laplacian import cotangent_laplacian, mesh_laplacian
 from algorithms.core.linsolve import BACKENDS, Factor, PinnedSystem, available_backends
 from algorithms.core.mesh import boundary_loops

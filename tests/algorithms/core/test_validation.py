@@ -23,7 +23,6 @@ from algorithms.core import (
 )
 from algorithms.core.validation import MAX_COORDINATE
 
-
 # --- as_points ---------------------------------------------------------------------------
 
 

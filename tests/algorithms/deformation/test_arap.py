@@ -11,13 +11,19 @@ from typing import get_args
 import igl
 import numpy as np
 import pytest
-from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, random_rotation, tube
 
 from algorithms.core import Cancelled, DegenerateInputError, InvalidInputError
-from algorithms.core.mesh import Mesh
 from algorithms.core.linsolve import BACKENDS
+from algorithms.core.mesh import Mesh
 from algorithms.deformation import ArapResult, ArapSolver, arap
 from algorithms.deformation.arap import Backend
+from tests.algorithms.deformation.deformation_meshes import (
+    blob,
+    bumpy_sheet,
+    grid,
+    random_rotation,
+    tube,
+)
 
 
 def bend_tube():

@@ -6,10 +6,10 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
-from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, tube
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.deformation import BiharmonicResult, biharmonic, harmonic
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, tube
 
 
 def two_rings(v, nx, ny):

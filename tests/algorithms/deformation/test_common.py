@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.deformation.deformation_meshes import grid
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import Handles, read_mesh
 from algorithms.deformation import check_handles
 from algorithms.deformation._common import pins_of
+from tests.algorithms.deformation.deformation_meshes import grid
 
 
 def test_check_handles_returns_the_checked_handles() -> None:

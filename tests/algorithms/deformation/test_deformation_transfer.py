@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, random_rotation
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.deformation import DeformationTransferResult, deformation_transfer
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid, random_rotation
 
 
 def frame(p, tri):

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.deformation.deformation_meshes import bumpy_sheet, grid
 
 from algorithms.core import Cancelled, DegenerateInputError, InvalidInputError
 from algorithms.deformation import IsotropicScalingResult, isotropic_scaling
+from tests.algorithms.deformation.deformation_meshes import bumpy_sheet, grid
 
 
 def test_rest_and_translation_are_reached_in_the_first_iteration():

@@ -7,11 +7,11 @@ import igl
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.core.laplacian import mesh_laplacian
 from algorithms.deformation import LaplacianResult, laplacian
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid
 
 
 @pytest.mark.parametrize("weights", ["cotangent", "uniform", "tangent"])

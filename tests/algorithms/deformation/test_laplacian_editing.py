@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import edges
 from algorithms.deformation import LaplacianEditingResult, laplacian_editing
+from tests.algorithms.deformation.deformation_meshes import blob, bumpy_sheet, grid
 
 
 def brute_force(v, f, idx, pos):

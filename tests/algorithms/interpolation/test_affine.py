@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.interpolation.interp_meshes import random_rotation, rot2, tet_bar
 from scipy.spatial.transform import Rotation, Slerp
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.interpolation import affine
+from tests.algorithms.interpolation.interp_meshes import random_rotation, rot2, tet_bar
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 
@@ -97,7 +97,7 @@ def test_det_stays_positive_along_the_path(d: int) -> None:
         np.testing.assert_allclose(res.det, expected, rtol=1e-10)
         assert (res.det > 0).all()
         # the frames' own volume ratio agrees (simplex of the first d + 1 points)
-        vol = [np.linalg.det((f[1:d + 1] - f[0])) / np.linalg.det(x[1:d + 1] - x[0])
+        vol = [np.linalg.det(f[1:d + 1] - f[0]) / np.linalg.det(x[1:d + 1] - x[0])
                for f in res.frames]
         np.testing.assert_allclose(vol, res.det, rtol=1e-8)
 

@@ -6,10 +6,18 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.interpolation.interp_meshes import bar, bend2, linear_blend_error, roll3, rot2, strip3, tet_bar
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.interpolation import affine, arap, poisson
+from tests.algorithms.interpolation.interp_meshes import (
+    bar,
+    bend2,
+    linear_blend_error,
+    roll3,
+    rot2,
+    strip3,
+    tet_bar,
+)
 
 T = np.linspace(0.0, 1.0, 11)
 

@@ -6,7 +6,6 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
-from tests.algorithms.interpolation.interp_meshes import bar, tet_bar
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.interpolation._common import (
@@ -16,6 +15,7 @@ from algorithms.interpolation._common import (
     read_times,
     surface_triangles,
 )
+from tests.algorithms.interpolation.interp_meshes import bar, tet_bar
 
 
 def test_shapes_are_points_or_meshes() -> None:

@@ -7,7 +7,6 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
-from tests.algorithms.interpolation.interp_meshes import bar, strip3, tet_bar
 
 from algorithms.core.laplacian import cotangent_laplacian
 from algorithms.interpolation._faces import (
@@ -16,6 +15,7 @@ from algorithms.interpolation._faces import (
     gradient_operator,
     unwrap_rotations,
 )
+from tests.algorithms.interpolation.interp_meshes import bar, strip3, tet_bar
 
 
 @pytest.mark.parametrize("kind", ["bar", "strip", "tets"])

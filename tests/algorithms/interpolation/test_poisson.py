@@ -6,12 +6,19 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.interpolation.interp_meshes import bar, bend2, linear_blend_error, roll3, strip3, tet_bar
 
 from algorithms.core.laplacian import cotangent_laplacian
 from algorithms.core.linsolve import PinnedSystem
 from algorithms.interpolation import poisson
 from algorithms.interpolation._common import edge_errors, edges_of
+from tests.algorithms.interpolation.interp_meshes import (
+    bar,
+    bend2,
+    linear_blend_error,
+    roll3,
+    strip3,
+    tet_bar,
+)
 
 T = np.linspace(0.0, 1.0, 11)
 

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.algorithms.interpolation.interp_meshes import random_rotation, rot2, strip3
 from scipy.spatial.transform import Rotation, Slerp
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.interpolation import affine, rigid
+from tests.algorithms.interpolation.interp_meshes import random_rotation, rot2, strip3
 
 SQUARE = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
 
