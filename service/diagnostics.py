@@ -11,11 +11,10 @@ from __future__ import annotations
 import os
 import time
 from dataclasses import dataclass
+from typing import Annotated
 
-from pydantic import Field
-
+from algorithms.core.params import Ge, Le, validate_params
 from algorithms.core.progress import Progress, as_progress
-from service.catalog.base import Params
 from service.catalog.registry import Process, Registry
 
 __all__ = ["diagnostics"]
@@ -35,10 +34,19 @@ class SleepResult:
     steps: int
 
 
-def sleep(seconds: float = 1.0, steps: int = 10, *, progress: Progress | None = None
-          ) -> SleepResult:
+@validate_params
+def sleep(seconds: Annotated[float, Ge(0)] = 1.0, steps: Annotated[int, Ge(1)] = 10, *,
+          progress: Progress | None = None) -> SleepResult:
     """Sleep ``seconds`` in ``steps`` slices, reporting progress after each (cancellable).
-    The messages name the process id, so that tests can kill the worker mid-job."""
+    The messages name the process id, so that tests can kill the worker mid-job.
+
+    Parameters
+    ----------
+    seconds : float, default 1.0
+        How long to sleep.
+    steps : int, default 10
+        Progress steps: slices of the sleep, each reported when done.
+    """
     report = as_progress(progress)
     start = time.monotonic()
     pid = os.getpid()
@@ -48,9 +56,18 @@ def sleep(seconds: float = 1.0, steps: int = 10, *, progress: Progress | None = 
     return SleepResult(time.monotonic() - start, steps)
 
 
-def nap(seconds: float = 1.0, steps: int = 10, *, progress: Progress | None = None
-        ) -> SleepResult:
-    """:func:`sleep`, offered on the fast path (run inside the service, not on a worker)."""
+@validate_params
+def nap(seconds: Annotated[float, Ge(0)] = 1.0, steps: Annotated[int, Ge(1)] = 10, *,
+        progress: Progress | None = None) -> SleepResult:
+    """:func:`sleep`, offered on the fast path (run inside the service, not on a worker).
+
+    Parameters
+    ----------
+    seconds : float, default 1.0
+        How long to sleep.
+    steps : int, default 10
+        Progress steps: slices of the sleep, each reported when done.
+    """
     return sleep(seconds, steps, progress=progress)
 
 
@@ -65,29 +82,29 @@ class CrashResult:
     survived: bool
 
 
-def crash(exit_code: int = 137) -> CrashResult:
-    """End the worker process at once, as an out-of-memory kill would."""
+@validate_params
+def crash(exit_code: Annotated[int, Ge(1), Le(255)] = 137) -> CrashResult:
+    """End the worker process at once, as an out-of-memory kill would.
+
+    Parameters
+    ----------
+    exit_code : int, default 137
+        Exit status of the worker (137 is a kill by SIGKILL).
+    """
     os._exit(exit_code)
 
 
-class SleepParams(Params):
-    seconds: float = Field(1.0, ge=0, le=3600, description="How long to sleep.")
-    steps: int = Field(10, ge=1, le=100_000, description="Progress steps.")
-
-
-class CrashParams(Params):
-    exit_code: int = Field(137, ge=1, le=255, description="Exit status of the worker.")
-
+#: What a shared test service still refuses: an hour's sleep, more steps than progress rows.
+_CAPS = {"seconds": Le(3600), "steps": Le(100_000)}
 
 diagnostics = Registry()
 diagnostics.add(Process(id="diagnostics.sleep", title="Sleep (diagnostic)",
                         description="Sleeps and reports progress; for tests of the job service.",
-                        function=sleep, params=SleepParams, result=SleepResult, long=True))
+                        function=sleep, limits=_CAPS, long=True))
 diagnostics.add(Process(id="diagnostics.nap", title="Sleep on the fast path (diagnostic)",
                         description="Sleeps and reports progress in the service's own fast "
-                        "path; for tests of the job service.", function=nap,
-                        params=SleepParams, result=SleepResult, fast_path=True))
+                        "path; for tests of the job service.", function=nap, limits=_CAPS,
+                        fast_path=True))
 diagnostics.add(Process(id="diagnostics.crash", title="Crash a worker (diagnostic)",
                         description="Kills the worker process that runs it; for tests of "
-                        "worker loss.", function=crash, params=CrashParams, result=CrashResult,
-                        long=True))
+                        "worker loss.", function=crash, long=True))

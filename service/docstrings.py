@@ -75,9 +75,18 @@ _LATEX = {
     "leftarrow": "←", "rightarrow": "→", "mapsto": "↦", "Rightarrow": "⇒", "odot": "⊙",
     "forall": "∀", "exists": "∃", "subset": "⊂", "cup": "∪", "cap": "∩", "emptyset": "∅",
 }
-_SUPERSCRIPT = str.maketrans("0123456789-+T", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺ᵀ")
+_SUPERSCRIPT_CHARS = "0123456789-+=()Tni"
+_SUPERSCRIPT = str.maketrans(_SUPERSCRIPT_CHARS, "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺⁼⁽⁾ᵀⁿⁱ")
 _SUBSCRIPT_CHARS = "0123456789aehijklmnoprstuvx+-="
 _SUBSCRIPT = str.maketrans(_SUBSCRIPT_CHARS, "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ₊₋₌")
+
+
+def _raise(m: re.Match[str]) -> str:
+    """A superscript raised when Unicode has every character of it, else ``^(...)``."""
+    sup = m.group(1)
+    if all(c in _SUPERSCRIPT_CHARS for c in sup):
+        return sup.translate(_SUPERSCRIPT)
+    return f"^{sup}" if len(sup) == 1 else f"^({sup})"
 
 
 def _lower(m: re.Match[str]) -> str:
@@ -104,9 +113,8 @@ def _math(expr: str) -> str:
                   + "\u0302", expr)
     expr = re.sub(r"\\(?:tilde|bar|hat)\s*", "", expr)
     expr = re.sub(r"\\([a-zA-Z]+|\|)", lambda m: _LATEX.get(m.group(1), m.group(1)), expr)
-    expr = re.sub(r"\^\{?([0-9T+-]+)\}?",
-                  lambda m: m.group(1).translate(_SUPERSCRIPT)
-                  if len(m.group(1)) <= 3 else "^" + m.group(1), expr)
+    expr = re.sub(r"\^(?!\{)([0-9A-Za-z])", _raise, expr)  # x^2 first, then ^{...}
+    expr = re.sub(r"\^\{([^{}]*)\}", _raise, expr)
     expr = re.sub(r"_\{([^{}]*)\}|_([0-9a-z])(?![0-9a-zA-Z])", _lower, expr)
     expr = expr.replace("{", "").replace("}", "")
     return re.sub(r"\s+", " ", expr).strip()

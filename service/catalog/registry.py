@@ -228,8 +228,9 @@ class Process:
 
     Only ``id``, ``function``, ``title`` and ``description`` are required. ``params`` (the
     pydantic model of the inputs: ``function(**params)`` runs it), ``result`` (the
-    dataclass the function returns), ``outputs`` and ``kinds`` are derived from the
-    function; see the module's docstring for what an entry adds.
+    dataclass the function returns), ``outputs``, ``kinds`` and ``reference`` are derived
+    from the function and cannot be given; see the module's docstring for what an entry
+    adds.
     """
 
     id: str
@@ -253,8 +254,6 @@ class Process:
     geometry: Scene | None = None
     """The GLB scene of a result, or None when its results hold no geometry."""
     version: str = "1.0.0"
-    reference: str | None = None
-    """Derived: the function's numpydoc References, joined (entries do not restate them)."""
     long: bool = False
     """Long methods run asynchronously when the client states no preference."""
     fast_path: bool = False
@@ -263,27 +262,26 @@ class Process:
     time_limit: float | None = None
     """Upper bound of the job time limit for this process (the settings' default applies too)."""
     keywords: tuple[str, ...] = ()
-    params: type[BaseModel] = field(default=None)  # type: ignore[assignment]
-    """Derived from the function; an explicit model is for tests of the registry only."""
-    result: type = field(default=None)  # type: ignore[assignment]
+    params: type[BaseModel] = field(init=False)
+    """The pydantic model of the inputs, built from the function (:func:`build_inputs`)."""
+    result: type = field(init=False)
+    """The result dataclass: the function's return annotation."""
+    reference: str | None = field(init=False)
+    """The function's numpydoc References, joined."""
     outputs: dict[str, Output] = field(init=False)
     kinds: dict[str, Kind] = field(init=False)
     """The declared kind of each array input (points, mesh, shape …)."""
     takes_progress: bool = field(init=False)
 
     def __post_init__(self) -> None:
-        if self.params is None:
-            object.__setattr__(self, "params", build_inputs(
-                self.id, self.function, kinds=_kind_types(), inputs=self.inputs,
-                examples=self.examples, limits=self.limits, hidden=self.hidden,
-                check=self.check))
-        if self.result is None:
-            hints = typing.get_type_hints(inspect.unwrap(self.function))
-            object.__setattr__(self, "result", hints["return"])
+        object.__setattr__(self, "params", build_inputs(
+            self.id, self.function, kinds=_kind_types(), inputs=self.inputs,
+            examples=self.examples, limits=self.limits, hidden=self.hidden, check=self.check))
+        hints = typing.get_type_hints(inspect.unwrap(self.function))
+        object.__setattr__(self, "result", hints["return"])
         object.__setattr__(self, "outputs", outputs_of(self.result))
-        if self.reference is None:
-            refs = numpydoc_references(inspect.getdoc(self.function))
-            object.__setattr__(self, "reference", "; ".join(refs) or None)
+        refs = numpydoc_references(inspect.getdoc(self.function))
+        object.__setattr__(self, "reference", "; ".join(refs) or None)
         decls = declarations(self.function)
         object.__setattr__(self, "kinds", {
             n: d.kind for n, d in decls.items()

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from algorithms.core.params import declarations
+from algorithms.core.params import Ge, declarations, validate_params
 from service import jsonio
 from service.catalog import lookup, processes, registry
 from service.catalog.registry import (
@@ -177,8 +177,6 @@ def test_process_description(p: Process) -> None:
 
 
 # -- one place for each fact --------------------------------------------------------------
-DERIVED = [p for p in ALL if p.params.__module__ == "service.catalog.registry"]
-"""Processes whose inputs are built from their function (the catalog's target state)."""
 
 
 def _bound_keywords(schema: dict[str, Any]) -> dict[str, float]:
@@ -187,7 +185,7 @@ def _bound_keywords(schema: dict[str, Any]) -> dict[str, float]:
             if k in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum")}
 
 
-@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+@pytest.mark.parametrize("p", ALL, ids=_ids)
 def test_inputs_are_the_signature(p: Process) -> None:
     """Every parameter of the function is an input (but the hidden ones), with the
     signature's default and the docstring's description, nothing else."""
@@ -204,7 +202,7 @@ def test_inputs_are_the_signature(p: Process) -> None:
         assert plain(docs[name][1]) in f.description, (p.id, name)
 
 
-@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+@pytest.mark.parametrize("p", ALL, ids=_ids)
 def test_every_input_is_declared(p: Process) -> None:
     """Nothing is left for the service to guess: each input is a checked scalar or has a
     declared kind (points, mesh, graph ...)."""
@@ -215,14 +213,14 @@ def test_every_input_is_declared(p: Process) -> None:
                        if d.kind is not None and n not in p.hidden}
 
 
-@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+@pytest.mark.parametrize("p", ALL, ids=_ids)
 def test_defaults_satisfy_their_declarations(p: Process) -> None:
     for name, d in declarations(p.function).items():
         if d.checked and not d.required:
             assert d.check(d.default) == d.default, (p.id, name)
 
 
-@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+@pytest.mark.parametrize("p", ALL, ids=_ids)
 def test_entry_restates_nothing(p: Process) -> None:
     """A catalog entry holds only what is the service's: no defaults or descriptions of
     its own for the function's parameters, and caps that are tighter than the signature's
@@ -234,7 +232,8 @@ def test_entry_restates_nothing(p: Process) -> None:
         fields = [m for m in meta if isinstance(m, FieldInfo)]
         assert not fields, f"{p.id}: inputs[{name!r}] carries a Field (default/description)"
     refs = numpydoc_references(inspect.getdoc(p.function))
-    assert refs and p.reference == "; ".join(refs), f"{p.id}: reference restated"
+    assert p.reference == ("; ".join(refs) or None), f"{p.id}: reference restated"
+    assert refs or p.id not in registry, f"{p.id}: a method cites its papers (References)"
     decls = declarations(p.function)
     for name in p.limits:
         declared = {(s.minimum, s.maximum) for s in decls[name].scalars}
@@ -245,7 +244,7 @@ def test_entry_restates_nothing(p: Process) -> None:
         assert (lo, hi) not in declared, f"{p.id}: limits[{name!r}] restates the signature"
 
 
-@pytest.mark.parametrize("p", DERIVED, ids=_ids)
+@pytest.mark.parametrize("p", ALL, ids=_ids)
 def test_declared_bounds_reach_the_schema(p: Process) -> None:
     props = p.params.model_json_schema()["properties"]
     for name, d in declarations(p.function).items():
@@ -620,22 +619,36 @@ def test_outputs_of_hand_written_dataclass() -> None:
     assert outs["undocumented_list"].schema == {"type": "array", "nullable": True}
 
 
-def test_process_from_hand_written_dataclass() -> None:
-    from pydantic import Field
+def test_process_from_a_hand_written_function() -> None:
+    """A process is one annotated function with a numpydoc docstring: its inputs, defaults,
+    bounds, descriptions, outputs and references are read from it."""
+    @validate_params
+    def hand(n: typing.Annotated[int, Ge(1)] = 2) -> _HandResult:
+        """Make points.
 
-    from service.catalog.base import Params
+        Parameters
+        ----------
+        n : int, default 2
+            How many points.
 
-    class HandParams(Params):
-        n: int = Field(2, ge=1, description="Points.")
-
-    def hand(n: int = 2) -> _HandResult:
+        References
+        ----------
+        .. [1] A. Hand, "Points", 2026.
+        """
         return _HandResult(np.zeros((n, 3)), 0.0, n, True, "x")
 
-    p = Process(id="test.hand", title="t", description="d", function=hand, params=HandParams,
-                result=_HandResult)
-    assert p.family == "test" and not p.takes_progress
-    out = p.run(p.kwargs(HandParams.model_validate({"n": 3})), progress=lambda *a: None)
+    p = Process(id="test.hand", title="t", description="d", function=hand)
+    assert p.family == "test" and not p.takes_progress and p.result is _HandResult
+    assert p.reference == 'A. Hand, "Points", 2026.' and p.kinds == {}
+    field = p.params.model_fields["n"]
+    assert (field.default, field.description) == (2, "How many points.")
+    with pytest.raises(ValidationError):
+        p.params.model_validate({"n": 0})
+    out = p.run(p.kwargs(p.params.model_validate({"n": 3})), progress=lambda *a: None)
     assert out["count"] == 3 and out["points"].shape == (3, 3) and out["maybe"] is None
+    with pytest.raises(TypeError):
+        Process(id="test.hand", title="t", description="d", function=hand,
+                params=p.params)  # type: ignore[call-arg]
 
 
 # -- the registry --------------------------------------------------------------------------
