@@ -14,11 +14,12 @@ from typing import Any
 from fastapi import FastAPI
 from fastapi.routing import APIRoute
 
-from service.auth import OPEN_PATHS, AuthMiddleware, KeyRing
 from service import metrics
+from service.auth import OPEN_PATHS, AuthMiddleware, KeyRing
 from service.callbacks import Notifier
 from service.errors import install_handlers
 from service.jobs.engine import Engine
+from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobStore
 from service.representation import results_document, status_info
 from service.routes import jobs, landing, processes
@@ -35,20 +36,22 @@ def _operation_id(route: APIRoute) -> str:
 
 
 def _wire_callbacks(engine: Engine, store: JobStore, notifier: Notifier) -> None:
-    def on_finish(job: JobRecord, outcome: dict[str, Any]) -> None:
-        sub = job.request.get("subscriber") or {}
-        if not sub:
+    def on_finish(job: JobRecord, outcome: Outcome) -> None:
+        sub = job.request.subscriber
+        if sub is None:
             return
         current = store.get(job.id) or job
-        if outcome["status"] == "successful" and "successUri" in sub:
-            notifier.send(sub["successUri"], results_document(outcome["outputs"], job.request))
-        elif outcome["status"] != "successful" and "failedUri" in sub:
-            notifier.send(sub["failedUri"], status_info(current))
+        if outcome.status is JobStatus.SUCCESSFUL:
+            if sub.success_uri is not None:
+                notifier.send(sub.success_uri,
+                              results_document(outcome.outputs or {}, job.request))
+        elif sub.failed_uri is not None:
+            notifier.send(sub.failed_uri, status_info(current))
 
     def on_start(job: JobRecord) -> None:
-        uri = (job.request.get("subscriber") or {}).get("inProgressUri")
-        if uri:
-            notifier.send(uri, status_info(store.get(job.id) or job))
+        sub = job.request.subscriber
+        if sub is not None and sub.in_progress_uri is not None:
+            notifier.send(sub.in_progress_uri, status_info(store.get(job.id) or job))
 
     engine.on_finish.append(on_finish)
     engine.on_start.append(on_start)

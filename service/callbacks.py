@@ -17,6 +17,7 @@ from urllib.parse import urlsplit
 import httpx
 
 from service.errors import ServiceError
+from service.jobs.store import Subscriber
 from service.jsonio import dumps
 
 __all__ = ["check_subscriber", "Notifier"]
@@ -26,14 +27,15 @@ log = logging.getLogger("morphserve.callbacks")
 _URIS = ("successUri", "inProgressUri", "failedUri")
 
 
-def check_subscriber(subscriber: Any, allowed_hosts: list[str]) -> dict[str, str] | None:
-    """The subscriber object if every URI is allowed, else a 422 naming the bad one."""
+def check_subscriber(subscriber: Any, allowed_hosts: list[str]) -> Subscriber | None:
+    """The request's subscriber object if every URI is allowed (None if it names none),
+    else a 422 naming the bad one."""
     if subscriber is None:
         return None
     if not isinstance(subscriber, dict):
         raise ServiceError("invalid-input", "subscriber: expected an object.",
                            errors=[{"input": "subscriber", "message": "expected an object"}])
-    out = {}
+    out: dict[str, str] = {}
     for name, uri in subscriber.items():
         field = f"subscriber.{name}"
         if name not in _URIS:
@@ -58,7 +60,7 @@ def check_subscriber(subscriber: Any, allowed_hosts: list[str]) -> dict[str, str
                 continue
         raise ServiceError("invalid-input", f"{field}: {msg}.",
                            errors=[{"input": field, "message": msg}])
-    return out or None
+    return Subscriber.from_json(out) if out else None
 
 
 class Notifier:

@@ -13,13 +13,15 @@ import time
 from collections import defaultdict
 from typing import Any
 
+from service.jobs.status import JobStatus
+
 __all__ = ["Metrics", "LATENCY_BUCKETS", "render"]
 
 #: Upper bounds (seconds) of the job latency histogram: acceptance to the end.
 LATENCY_BUCKETS = (0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 2.5, 5.0, 10.0, 30.0, 60.0,
                    300.0, 600.0, 1800.0, 3600.0)
 
-STATES = ("accepted", "running", "successful", "failed", "dismissed")
+STATES = tuple(JobStatus)
 
 
 def _label(value: str) -> str:
@@ -47,26 +49,26 @@ class Metrics:
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._finished: dict[tuple[str, str], int] = defaultdict(int)
+        self._finished: dict[tuple[str, JobStatus], int] = defaultdict(int)
         self._latency: dict[str, _Histogram] = defaultdict(_Histogram)
         self.started = time.time()
 
-    def finished(self, process: str, status: str, created: float,
+    def finished(self, process: str, status: JobStatus, created: float,
                  now: float | None = None) -> None:
         latency = max(0.0, (now or time.time()) - created)
         with self._lock:
             self._finished[(process, status)] += 1
             self._latency[process].observe(latency)
 
-    def snapshot(self) -> tuple[dict[tuple[str, str], int], dict[str, tuple[list[int], float,
-                                                                             int]]]:
+    def snapshot(self) -> tuple[dict[tuple[str, JobStatus], int],
+                                dict[str, tuple[list[int], float, int]]]:
         with self._lock:
             return (dict(self._finished),
                     {p: (list(h.counts), h.total, h.count) for p, h in self._latency.items()})
 
 
-def render(metrics: Metrics, *, jobs: dict[tuple[str, str], int], queue: int, workers: int,
-           processes: int) -> str:
+def render(metrics: Metrics, *, jobs: dict[tuple[str, JobStatus], int], queue: int,
+           workers: int, processes: int) -> str:
     """The exposition text: ``jobs`` maps (process, status) to the store's counts."""
     out: list[str] = []
 
@@ -75,7 +77,7 @@ def render(metrics: Metrics, *, jobs: dict[tuple[str, str], int], queue: int, wo
         out.append(f"# TYPE {name} {kind}")
 
     family("morphserve_jobs", "gauge", "Jobs in the store by process and status.")
-    by_status: dict[str, int] = dict.fromkeys(STATES, 0)
+    by_status: dict[JobStatus, int] = dict.fromkeys(STATES, 0)
     for (process, status), n in sorted(jobs.items()):
         by_status[status] = by_status.get(status, 0) + n
         out.append(f'morphserve_jobs{{process="{_label(process)}",status="{status}"}} {n}')
@@ -115,4 +117,4 @@ def render(metrics: Metrics, *, jobs: dict[tuple[str, str], int], queue: int, wo
 def wire(engine: Any, metrics: Metrics) -> None:
     """Count every job the engine finishes."""
     engine.on_finish.append(
-        lambda job, outcome: metrics.finished(job.process, outcome["status"], job.created))
+        lambda job, outcome: metrics.finished(job.process, outcome.status, job.created))

@@ -12,7 +12,7 @@ from typing import Any
 from algorithms.core.errors import GeometryError
 
 __all__ = ["ProblemType", "PROBLEMS", "problem_body", "geometry_error_problem",
-           "pydantic_errors"]
+           "dismissed_problem", "pydantic_errors"]
 
 
 @dataclass(frozen=True)
@@ -97,6 +97,11 @@ def problem_body(
     if errors:
         body["errors"] = errors
     return body
+
+
+def dismissed_problem() -> dict[str, Any]:
+    """The problem body of a job dismissed before it finished (without ``instance``)."""
+    return problem_body("job-dismissed", "The job was dismissed before it finished.")
 
 
 def geometry_error_problem(exc: GeometryError) -> dict[str, Any]:

@@ -6,7 +6,8 @@ from datetime import UTC, datetime
 from typing import Any
 
 from service.catalog import Process
-from service.jobs.store import JobRecord
+from service.jobs.status import JobStatus
+from service.jobs.store import JobRecord, JobRequest
 
 __all__ = ["status_info", "results_document", "process_summary",
            "process_description", "iso"]
@@ -26,14 +27,14 @@ def status_info(job: JobRecord) -> dict[str, Any]:
         {"href": f"/processes/{job.process}", "rel": "up", "type": "application/json",
          "title": "the process"},
     ]
-    if job.status == "successful":
+    if job.status is JobStatus.SUCCESSFUL:
         links.append({"href": f"/jobs/{job.id}/results", "rel": "results",
                       "type": "application/json", "title": "the job's results"})
     return {
         "jobID": job.id,
         "processID": job.process,
         "type": "process",
-        "status": job.status,
+        "status": str(job.status),
         "message": job.message,
         "created": iso(job.created),
         "started": iso(job.started),
@@ -44,13 +45,13 @@ def status_info(job: JobRecord) -> dict[str, Any]:
     }
 
 
-def results_document(outputs: dict[str, Any], request: dict[str, Any]) -> Any:
+def results_document(outputs: dict[str, Any], request: JobRequest) -> Any:
     """The results of a job as the client asked: the requested outputs (all by default), as a
     document ``{name: value}``, or for ``response: raw`` with one output, the value alone.
     Values stay numpy; :mod:`service.jsonio` writes them."""
-    wanted = request.get("outputs") or list(outputs)
+    wanted = request.outputs or list(outputs)
     doc = {name: outputs[name] for name in wanted if name in outputs}
-    if request.get("response") == "raw" and len(doc) == 1:
+    if request.response == "raw" and len(doc) == 1:
         return next(iter(doc.values()))
     return doc
 

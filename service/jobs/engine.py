@@ -40,6 +40,7 @@ from distributed.client import Future, FutureCancelledError
 from distributed.scheduler import KilledWorker
 
 from service.jobs.runner import TOPIC, Reporter, cancel_event_name, run_job
+from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobStore
 from service.problems import problem_body
 from service.settings import Settings
@@ -63,7 +64,7 @@ class WarmUp(WorkerPlugin):
 @dataclass
 class _Handle:
     job: JobRecord
-    outcome: asyncio.Future[dict[str, Any]]
+    outcome: asyncio.Future[Outcome]
     future: Future | None = None
     """The Dask future; None on the fast path."""
     cancel: threading.Event = field(default_factory=threading.Event)
@@ -103,7 +104,7 @@ class Engine:
         self._pool = ThreadPoolExecutor(max_workers=settings.fast_path_threads,
                                         thread_name_prefix="morphserve-fast")
         self._closing = False
-        self.on_finish: list[Callable[[JobRecord, dict[str, Any]], Any]] = []
+        self.on_finish: list[Callable[[JobRecord, Outcome], Any]] = []
         """Called with the job and its outcome when it ends (subscriber callbacks)."""
         self.on_start: list[Callable[[JobRecord], Any]] = []
         """Called with the job when it starts running."""
@@ -169,9 +170,11 @@ class Engine:
             return
         assert self.client is not None, "engine not started"
         persist = self.settings.scheduler is not None
+        # Dask hands the keywords it does not take itself (key, pure, ...) to run_job
         handle.future = self.client.submit(
-            run_job, job.id, job.process, payload, str(self.store.data_dir), job.time_limit,
-            self.settings.fsync, self.settings.test_processes, persist,
+            run_job, job.id, job.process, payload, data_dir=str(self.store.data_dir),
+            time_limit=job.time_limit, fsync=self.settings.fsync,
+            test_processes=self.settings.test_processes, persist=persist,
             key=f"morphserve-{job.id}", pure=False)
         if persist:
             fire_and_forget(handle.future)
@@ -184,7 +187,8 @@ class Engine:
         resubmitted = 0
         for job in jobs:
             if self.store.result_file_exists(job.id):  # start-up: the loop serves nothing yet
-                self.store.finish(job.id, "successful", "done (recovered after a restart)")
+                self.store.finish(job.id, JobStatus.SUCCESSFUL,
+                                  "done (recovered after a restart)")
                 continue
             self.store.requeue(job.id)
             self.submit(job, self.store.payload(job))
@@ -192,7 +196,7 @@ class Engine:
         if jobs:
             log.warning("recovered %d unfinished jobs, %d resubmitted", len(jobs), resubmitted)
 
-    async def wait(self, job_id: str, timeout: float) -> dict[str, Any] | None:
+    async def wait(self, job_id: str, timeout: float) -> Outcome | None:
         """The job's outcome if it ends within ``timeout`` seconds, else ``None`` (also when
         the job is not running here, e.g. already finished: read the store then)."""
         handle = self._jobs.get(job_id)
@@ -224,7 +228,7 @@ class Engine:
         self._on_event((0.0, {"job": handle.job.id, "kind": "started"}))
         await self._record(handle, await self._compute(handle, kwargs))
 
-    async def _compute(self, handle: _Handle, kwargs: dict[str, Any]) -> dict[str, Any]:
+    async def _compute(self, handle: _Handle, kwargs: dict[str, Any]) -> Outcome:
         """Run a fast-path job on the pool; its outcome (the runner catches every error)."""
         loop = asyncio.get_running_loop()
         job = handle.job
@@ -236,13 +240,13 @@ class Engine:
         reporter = Reporter(job.id, job.time_limit, publish=publish,
                             cancelled=handle.cancel.is_set)
         return await loop.run_in_executor(
-            self._pool, lambda: run_job(job.id, job.process, kwargs, "", job.time_limit,
+            self._pool, lambda: run_job(job.id, job.process, kwargs, time_limit=job.time_limit,
                                         test_processes=self.settings.test_processes,
                                         reporter=reporter))
 
     async def run_first(self, job: JobRecord, kwargs: dict[str, Any], wait: float,
-                        record: Callable[[dict[str, Any] | None, float], Awaitable[JobRecord]]
-                        ) -> tuple[JobRecord, dict[str, Any] | None]:
+                        record: Callable[[Outcome | None, float], Awaitable[JobRecord]]
+                        ) -> tuple[JobRecord, Outcome | None]:
         """Run a fast-path job *before* its row is written, for a client that waits for it.
 
         ``job`` is the record to be (its id fixed, not yet stored). If the job ends within
@@ -276,49 +280,43 @@ class Engine:
         self._spawn(self._adopt(handle, compute))
         return stored, None
 
-    async def _adopt(self, handle: _Handle, compute: asyncio.Task[dict[str, Any]]) -> None:
+    async def _adopt(self, handle: _Handle, compute: asyncio.Task[Outcome]) -> None:
         """Record the end of a job :meth:`run_first` stored while it was running."""
         await self._record(handle, await compute)
 
     async def _watch(self, handle: _Handle) -> None:
         assert handle.future is not None
         try:
-            outcome = await handle.future
+            outcome: Outcome = await handle.future
         except FutureCancelledError:
-            outcome = {"status": "dismissed", "problem": problem_body(
-                "job-dismissed", "The job was dismissed before it finished.")}
+            outcome = Outcome.dismissed()
         except KilledWorker as exc:
-            outcome = {"status": "failed", "problem": problem_body(
+            outcome = Outcome.failed(problem_body(
                 "worker-lost", f"The job's worker died {self.settings.allowed_failures + 1} "
-                f"times (crash or memory limit); last on {getattr(exc, 'last_worker', '?')}.")}
+                f"times (crash or memory limit); last on {getattr(exc, 'last_worker', '?')}."))
         except asyncio.CancelledError:
             raise
         except Exception as exc:
             if self._closing:
                 return
             log.exception("job %s: unexpected error from the scheduler", handle.job.id)
-            outcome = {"status": "failed", "problem": problem_body(
-                "job-failed", f"The scheduler reported {type(exc).__name__}: {exc}")}
+            outcome = Outcome.failed(problem_body(
+                "job-failed", f"The scheduler reported {type(exc).__name__}: {exc}"))
         await self._record(handle, outcome)
         if self.settings.scheduler is None:
             handle.future.release()
 
-    async def _record(self, handle: _Handle, outcome: dict[str, Any]) -> None:
+    async def _record(self, handle: _Handle, outcome: Outcome) -> None:
         job = handle.job
         if self._jobs.get(job.id) is not handle:  # recorded already (time-limit sweep)
             return
         del self._jobs[job.id]
-        status = outcome["status"]
         started = time.time() - (time.monotonic() - handle.started) if handle.started else None
-        if status == "successful":
-            await self.store.write(self.store.finish, job.id, "successful", "done",
-                                   outputs=outcome["outputs"], started=started)
-        elif status == "failed":
-            await self.store.write(self.store.finish, job.id, "failed",
-                                   outcome["problem"]["detail"], outcome["problem"],
-                                   started=started)
-        if handle.future is not None and (status == "dismissed" or outcome.get(
-                "problem", {}).get("type", "").endswith("time-limit-exceeded")):
+        if outcome.status is not JobStatus.DISMISSED:  # a dismissal is recorded by the route
+            await self.store.write(self.store.finish, job.id, outcome.status, outcome.message,
+                                   outcome.problem, outcome.outputs, started=started)
+        if handle.future is not None and (outcome.status is JobStatus.DISMISSED
+                                          or outcome.timed_out):
             # The worker may look at the event for a while yet: a cancelled Dask future does
             # not stop its thread. By the job's own deadline it has stopped either way.
             self._spawn(self._clear_cancel(job.id, (job.time_limit or 0.0) + GRACE))
@@ -357,7 +355,8 @@ class Engine:
     @staticmethod
     def on_start_wanted(job: JobRecord) -> bool:
         """A subscriber asked to hear when the job starts: record the start at once."""
-        return bool((job.request.get("subscriber") or {}).get("inProgressUri"))
+        sub = job.request.subscriber
+        return sub is not None and bool(sub.in_progress_uri)
 
     async def _sweep(self) -> None:
         """Stop jobs that ignore their time limit: after GRACE seconds, restart the worker."""
@@ -374,9 +373,9 @@ class Engine:
                 if handle.future is not None:
                     await self._signal_cancel(handle.job.id)
                     await self._restart_worker_of(handle.job.id)
-                await self._record(handle, {"status": "failed", "problem": problem_body(
+                await self._record(handle, Outcome.failed(problem_body(
                     "time-limit-exceeded",
-                    f"The job was stopped: time limit of {limit:g} s exceeded.")})
+                    f"The job was stopped: time limit of {limit:g} s exceeded.")))
                 if handle.future is not None:
                     await handle.future.cancel()
 

@@ -1,10 +1,11 @@
 """What runs on a Dask worker: one job, start to end.
 
 :func:`run_job` loads the inputs, calls the algorithm through the catalog with a progress
-callback and returns an *outcome* dict; with ``persist`` (external scheduler, tasks submitted
-fire-and-forget) it first writes the outputs atomically to ``results/{job_id}.pkl`` in the
-shared data dir, so they outlive a restarting API. It never raises for a job's own failure: algorithm errors
-become a ``failed`` outcome carrying a problem body, so a bad input never costs a worker.
+callback and returns an :class:`~service.jobs.status.Outcome`; with ``persist`` (external
+scheduler, tasks submitted fire-and-forget) it first writes the outputs atomically to
+``results/{job_id}.pkl`` in the shared data dir, so they outlive a restarting API. It never
+raises for a job's own failure: algorithm errors become a ``failed`` outcome carrying a
+problem body, so a bad input never costs a worker.
 
 The progress callback (:class:`Reporter`) is also how dismissal and time limits reach running
 work, since Dask cannot stop a running Python function: it raises
@@ -16,7 +17,6 @@ service subscribes to it.
 from __future__ import annotations
 
 import dataclasses
-
 import logging
 import math
 import pickle
@@ -31,6 +31,7 @@ from algorithms.core.errors import Cancelled, GeometryError
 from service.binary import owned
 from service.catalog import lookup
 from service.jobs.spool import load_inputs
+from service.jobs.status import Outcome
 from service.jobs.store import result_path, write_atomic
 from service.problems import geometry_error_problem, problem_body
 
@@ -128,12 +129,18 @@ def _check_finite(outputs: Mapping[str, Any], prefix: str = "") -> None:
             raise FloatingPointError(f"output {where!r} holds NaN or Inf")
 
 
-def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, data_dir: str,
-            time_limit: float | None = None, fsync: bool = True,
+def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, *,
+            data_dir: str = "", time_limit: float | None = None, fsync: bool = True,
             test_processes: bool = False, persist: bool = False,
-            reporter: Reporter | None = None) -> dict[str, Any]:
-    """Run one job; return ``{"status": "successful", "outputs": {...}}`` or
-    ``{"status": "failed" | "dismissed", "problem": {...}}``."""
+            reporter: Reporter | None = None) -> Outcome:
+    """Run one job: the process ``process_id`` on ``payload``, its inputs (or the path of
+    the file holding them); return how it ended, successful with its outputs, or failed or
+    dismissed with a problem.
+
+    ``time_limit`` is in seconds; ``persist`` (external scheduler) first writes the outputs
+    to ``results/{job_id}.pkl`` under ``data_dir``, fsynced if ``fsync``;
+    ``test_processes`` offers the diagnostic processes; ``reporter`` is the progress
+    callback (default: one publishing on this worker's event log)."""
     reporter = reporter or Reporter(job_id, time_limit, _current_worker())
     reporter.emit("started", 0, "running")
     try:
@@ -143,22 +150,21 @@ def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, data
         # inputs unpickled (inline ones from the task's frame) are views at any byte offset,
         # maybe read-only: a method gets aligned, writable arrays, as a local call does
         # (BLAS takes other paths for misaligned operands, with other last bits)
-        kwargs = owned(payload if not isinstance(payload, str) else load_inputs(payload))
+        kwargs = owned(dict(payload) if not isinstance(payload, str) else load_inputs(payload))
         outputs = process.run(kwargs, progress=reporter)
         _check_finite(outputs)
         if persist:
             write_atomic(result_path(Path(data_dir), job_id),
                          pickle.dumps(outputs, protocol=5), fsync=fsync)
-        return {"status": "successful", "outputs": outputs}
+        return Outcome.successful(outputs)
     except Cancelled as exc:
         if reporter.reason == "time-limit":
-            return {"status": "failed", "problem": problem_body(
-                "time-limit-exceeded", f"The job was stopped: {exc.message}.")}
-        return {"status": "dismissed", "problem": problem_body(
-            "job-dismissed", "The job was dismissed before it finished.")}
+            return Outcome.failed(problem_body(
+                "time-limit-exceeded", f"The job was stopped: {exc.message}."))
+        return Outcome.dismissed()
     except GeometryError as exc:
-        return {"status": "failed", "problem": geometry_error_problem(exc)}
+        return Outcome.failed(geometry_error_problem(exc))
     except Exception as exc:  # a bug in an algorithm: fail the job, keep the worker
         log.exception("job %s (%s) failed", job_id, process_id)
-        return {"status": "failed", "problem": problem_body(
-            "job-failed", f"The algorithm failed: {type(exc).__name__}: {exc}")}
+        return Outcome.failed(problem_body(
+            "job-failed", f"The algorithm failed: {type(exc).__name__}: {exc}"))

@@ -37,21 +37,23 @@ import uuid
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, Literal, TypeVar
 
 import numpy as np
 
 from service.jobs.spool import Spool, load_inputs, remove_stale
+from service.jobs.status import ACTIVE, FINISHED, JobStatus, Outcome
 
-__all__ = ["JobRecord", "JobStore", "ACTIVE", "FINISHED", "write_atomic", "result_path"]
+__all__ = ["JobRecord", "JobRequest", "Subscriber", "JobStore", "JobStatus", "ACTIVE",
+           "FINISHED", "write_atomic", "result_path"]
 
 T = TypeVar("T")
 
-ACTIVE = ("accepted", "running")
-
 #: Most writes group-committed in one transaction.
 MAX_BATCH = 256
-FINISHED = ("successful", "failed", "dismissed")
+
+#: SQL: the row's job is accepted or running.
+_IS_ACTIVE = "status IN (" + ", ".join(f"'{s}'" for s in ACTIVE) + ")"
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS jobs (
@@ -96,19 +98,70 @@ _SELECT = ", ".join(_COLUMNS)
 
 
 @dataclass(frozen=True)
+class Subscriber:
+    """The URLs an execute request's ``subscriber`` names (OGC callbacks), checked by
+    :func:`service.callbacks.check_subscriber`; None where the client named none."""
+
+    success_uri: str | None = None
+    """POSTed the results document when the job succeeds."""
+    in_progress_uri: str | None = None
+    """POSTed the statusInfo when the job starts."""
+    failed_uri: str | None = None
+    """POSTed the statusInfo when the job fails or is dismissed."""
+
+    _MEMBERS = (("successUri", "success_uri"), ("inProgressUri", "in_progress_uri"),
+                ("failedUri", "failed_uri"))
+
+    def to_json(self) -> dict[str, str]:
+        """The ``subscriber`` object of the request: the members named, by their OGC names."""
+        return {member: uri for member, name in self._MEMBERS
+                if (uri := getattr(self, name)) is not None}
+
+    @classmethod
+    def from_json(cls, doc: Mapping[str, str]) -> Subscriber:
+        return cls(**{name: doc[member] for member, name in cls._MEMBERS if member in doc})
+
+
+@dataclass(frozen=True)
+class JobRequest:
+    """What the client asked for besides the inputs; stored with the job, as the JSON
+    object ``{"outputs": [...] | null, "response": ..., "subscriber": {...} | null}``."""
+
+    outputs: tuple[str, ...] | None = None
+    """The outputs to send, in the process's order; None (or empty): all of them."""
+    response: Literal["document", "raw"] = "document"
+    """``raw``: a single output is sent as its bare value, not in a results document."""
+    subscriber: Subscriber | None = None
+    """Whom to call back when the job starts and ends; None: nobody."""
+
+    def to_json(self) -> dict[str, Any]:
+        return {"outputs": None if self.outputs is None else list(self.outputs),
+                "response": self.response,
+                "subscriber": self.subscriber.to_json() if self.subscriber else None}
+
+    @classmethod
+    def from_json(cls, doc: Mapping[str, Any]) -> JobRequest:
+        """Read a stored request; a member missing (rows of ``'{}'``) takes its default."""
+        outputs, subscriber = doc.get("outputs"), doc.get("subscriber")
+        return cls(outputs=None if outputs is None else tuple(outputs),
+                   response=doc.get("response") or "document",
+                   subscriber=Subscriber.from_json(subscriber) if subscriber else None)
+
+
+@dataclass(frozen=True)
 class JobRecord:
     """One row of the job table (without the inputs blob)."""
 
     id: str
     process: str
-    status: str
+    status: JobStatus
     message: str
     progress: int
     created: float
     started: float | None
     finished: float | None
     updated: float
-    request: dict[str, Any]
+    request: JobRequest
     """What the client asked for besides the inputs: outputs, response mode, subscriber."""
     problem: dict[str, Any] | None
     time_limit: float | None
@@ -118,6 +171,24 @@ class JobRecord:
     inputs_file: str | None
     owner: str = ""
     """The API key's name that created the job; "" when the service runs without keys."""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.status, JobStatus):  # "running" is RUNNING
+            object.__setattr__(self, "status", JobStatus(self.status))
+
+    @classmethod
+    def accepted(cls, *, process: str, request: JobRequest, time_limit: float | None,
+                 idempotency_key: str | None = None, request_hash: str | None = None,
+                 owner: str = "", job_id: str | None = None, created: float | None = None,
+                 inputs_file: str | None = None) -> JobRecord:
+        """A job just accepted, not yet run: its record as :meth:`JobStore.create` writes
+        it. ``job_id`` and ``created`` are new ones unless given."""
+        now = created or time.time()
+        return cls(id=job_id or str(uuid.uuid4()), process=process,
+                   status=JobStatus.ACCEPTED, message="", progress=0, created=now,
+                   started=None, finished=None, updated=now, request=request, problem=None,
+                   time_limit=time_limit, idempotency_key=idempotency_key,
+                   request_hash=request_hash, attempts=0, inputs_file=inputs_file, owner=owner)
 
     @property
     def active(self) -> bool:
@@ -147,7 +218,7 @@ def _record(row: tuple[Any, ...]) -> JobRecord:
     key, owner = d["idempotency_key"], d["owner"]
     if key is not None and owner and key.startswith(owner + "\x1f"):
         d["idempotency_key"] = key[len(owner) + 1:]
-    d["request"] = json.loads(d["request"])
+    d["request"] = JobRequest.from_json(json.loads(d["request"]))
     d["problem"] = json.loads(d["problem"]) if d["problem"] else None
     return JobRecord(**d)
 
@@ -319,7 +390,7 @@ class JobStore:
                 self._db.execute("COMMIT")
 
     # -- writing -----------------------------------------------------------------------------
-    def create(self, *, process: str, inputs: Mapping[str, Any], request: Mapping[str, Any],
+    def create(self, *, process: str, inputs: Mapping[str, Any], request: JobRequest,
                time_limit: float | None, idempotency_key: str | None = None,
                request_hash: str | None = None, owner: str = "", job_id: str | None = None,
                created: float | None = None, spool: Spool | None = None,
@@ -350,43 +421,41 @@ class JobStore:
                 inputs_file = f"inputs/{job_id}.pkl"
                 write_atomic(self.data_dir / inputs_file, blob, fsync=self.fsync)
                 blob = None
-        now = created or time.time()
+        job = JobRecord.accepted(process=process, request=request, time_limit=time_limit,
+                                 idempotency_key=idempotency_key, request_hash=request_hash,
+                                 owner=owner, job_id=job_id, created=created,
+                                 inputs_file=inputs_file)
         try:
             with self._lock:
                 self._db.execute(
                     "INSERT INTO jobs (id, process, status, created, updated, request, inputs, "
                     "inputs_file, time_limit, idempotency_key, request_hash, owner) "
-                    "VALUES (?, ?, 'accepted', ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                    (job_id, process, now, now, json.dumps(dict(request)), blob, inputs_file,
-                     time_limit, _scoped(owner, idempotency_key), request_hash, owner))
+                    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    (job.id, job.process, job.status, job.created, job.updated,
+                     json.dumps(job.request.to_json()), blob, job.inputs_file, job.time_limit,
+                     _scoped(job.owner, job.idempotency_key), job.request_hash, job.owner))
         except BaseException:  # e.g. the idempotency key raced in: leave no orphan file
             if inputs_file:
                 (self.data_dir / inputs_file).unlink(missing_ok=True)
             raise
-        return JobRecord(id=job_id, process=process, status="accepted", message="",
-                         progress=0, created=now, started=None, finished=None, updated=now,
-                         request=dict(request), problem=None, time_limit=time_limit,
-                         idempotency_key=idempotency_key, request_hash=request_hash,
-                         attempts=0, inputs_file=inputs_file, owner=owner)
+        return job
 
-    def create_finished(self, outcome: Mapping[str, Any], *, started: float,
-                        **create: Any) -> JobRecord:
+    def create_finished(self, outcome: Outcome, *, started: float, **create: Any) -> JobRecord:
         """Record a job that already ran (a fast-path job the client waited for): its row,
         inputs and outcome in one transaction, so one commit (one fsync) instead of the two
         of :meth:`create` and :meth:`finish`. Nothing was accepted before this returns: the
         client hears of the job only after the commit. ``create`` are :meth:`create`'s
         arguments, ``outcome`` is the runner's (successful with outputs, or failed)."""
-        status, problem = outcome["status"], outcome.get("problem")
-        message = "done" if status == "successful" else problem["detail"]
+        status, problem, message = outcome.status, outcome.problem, outcome.message
         with self._atomic():  # a savepoint when group-committed: not readable till the commit
             job = self.create(**create)
             now = time.time()
-            self.finish(job.id, status, message, problem, outcome.get("outputs"),
+            self.finish(job.id, status, message, problem, outcome.outputs,
                         started=started, now=now)
         return dataclasses.replace(
             job, status=status, message=message, problem=dict(problem) if problem else None,
-            progress=100 if status == "successful" else 0, started=started, finished=now,
-            updated=now)
+            progress=100 if status is JobStatus.SUCCESSFUL else 0, started=started,
+            finished=now, updated=now)
 
     def _update(self, job_id: str, where: str = "", **values: Any) -> bool:
         values.setdefault("updated", time.time())
@@ -402,17 +471,17 @@ class JobStore:
         """accepted -> running (no effect on a finished or dismissed job)."""
         with self._lock:
             cur = self._db.execute(
-                "UPDATE jobs SET status = 'running', started = ?, updated = ?, "
+                "UPDATE jobs SET status = ?, started = ?, updated = ?, "
                 "message = 'running', attempts = attempts + 1 "
-                "WHERE id = ? AND status IN ('accepted', 'running')",
-                (started or time.time(), time.time(), job_id))
+                f"WHERE id = ? AND {_IS_ACTIVE}",
+                (JobStatus.RUNNING, started or time.time(), time.time(), job_id))
         return cur.rowcount > 0
 
     def set_progress(self, job_id: str, progress: int, message: str) -> bool:
-        return self._update(job_id, "AND status = 'running'", progress=int(progress),
-                            message=message)
+        return self._update(job_id, f"AND status = '{JobStatus.RUNNING}'",
+                            progress=int(progress), message=message)
 
-    def finish(self, job_id: str, status: str, message: str,
+    def finish(self, job_id: str, status: JobStatus, message: str,
                problem: Mapping[str, Any] | None = None,
                outputs: Mapping[str, Any] | None = None,
                started: float | None = None, now: float | None = None) -> bool:
@@ -421,15 +490,16 @@ class JobStore:
         (fast-path jobs are not marked running: they take milliseconds); ``now`` is the
         end's time (default: now)."""
         now = now or time.time()
+        status = JobStatus(status)
         blob = pickle.dumps(dict(outputs), protocol=5) if outputs is not None else None
         with self._atomic():
             cur = self._db.execute(
                 "UPDATE jobs SET status = ?, message = ?, finished = ?, updated = ?, "
-                "problem = ?, progress = CASE WHEN ? = 'successful' THEN 100 ELSE progress "
+                "problem = ?, progress = CASE WHEN ? THEN 100 ELSE progress "
                 "END, started = COALESCE(started, ?) "
-                "WHERE id = ? AND status IN ('accepted', 'running')",
+                f"WHERE id = ? AND {_IS_ACTIVE}",
                 (status, message, now, now, json.dumps(dict(problem)) if problem else None,
-                 status, started, job_id))
+                 status is JobStatus.SUCCESSFUL, started, job_id))
             if cur.rowcount and blob is not None:
                 self._db.execute("INSERT OR REPLACE INTO results (id, outputs) VALUES (?, ?)",
                                  (job_id, blob))
@@ -437,12 +507,12 @@ class JobStore:
 
     def requeue(self, job_id: str) -> bool:
         """Back to accepted, for a resubmission after a restart."""
-        return self._update(job_id, "AND status IN ('accepted', 'running')", status="accepted",
+        return self._update(job_id, f"AND {_IS_ACTIVE}", status=JobStatus.ACCEPTED,
                             message="resubmitted after a restart", progress=0)
 
     def dismiss(self, job_id: str) -> bool:
         now = time.time()
-        return self._update(job_id, "AND status IN ('accepted', 'running')", status="dismissed",
+        return self._update(job_id, f"AND {_IS_ACTIVE}", status=JobStatus.DISMISSED,
                             message="dismissed by the client", finished=now, updated=now)
 
     def delete(self, job_id: str) -> None:
@@ -476,12 +546,13 @@ class JobStore:
         found = self._jobs("WHERE idempotency_key = ?", (_scoped(owner, key),))
         return found[0] if found else None
 
-    def list(self, *, statuses: Iterable[str] = (), processes: Iterable[str] = (),
+    def page(self, *, statuses: Iterable[JobStatus | str] = (), processes: Iterable[str] = (),
              limit: int = 10, offset: int = 0, owner: str | None = None
              ) -> tuple[list[JobRecord], int]:
         """A page of jobs, newest first, and the number of jobs matching the filter
         (``owner`` None: every owner's)."""
-        where, args = [], []
+        where: list[str] = []
+        args: list[Any] = []
         if owner is not None:
             where.append("owner = ?")
             args.append(owner)
@@ -491,35 +562,38 @@ class JobStore:
                 args += vals
         clause = f"WHERE {' AND '.join(where)}" if where else ""
         total = self._read(f"SELECT COUNT(*) FROM jobs {clause}", args)[0][0]
-        page = self._jobs(f"{clause} ORDER BY seq DESC LIMIT ? OFFSET ?", (*args, limit, offset))
-        return page, total
+        jobs = self._jobs(f"{clause} ORDER BY seq DESC LIMIT ? OFFSET ?", (*args, limit, offset))
+        return jobs, total
 
     def count_active(self, owner: str | None = None) -> int:
         """Jobs accepted or running, of one ``owner`` or (None) of all."""
         if owner is None:
-            return self._read("SELECT COUNT(*) FROM jobs WHERE status IN ('accepted', "
-                              "'running')")[0][0]
-        return self._read("SELECT COUNT(*) FROM jobs WHERE owner = ? AND status IN "
-                          "('accepted', 'running')", (owner,))[0][0]
+            return int(self._read(f"SELECT COUNT(*) FROM jobs WHERE {_IS_ACTIVE}")[0][0])
+        return int(self._read(f"SELECT COUNT(*) FROM jobs WHERE owner = ? AND {_IS_ACTIVE}",
+                              (owner,))[0][0])
 
-    def count_by_status(self) -> dict[str, int]:
-        return dict(self._read("SELECT status, COUNT(*) FROM jobs GROUP BY status"))
+    def count_by_status(self) -> dict[JobStatus, int]:
+        return {JobStatus(s): n for s, n in self._read(
+            "SELECT status, COUNT(*) FROM jobs GROUP BY status")}
 
-    def count_by_process(self) -> dict[tuple[str, str], int]:
+    def count_by_process(self) -> dict[tuple[str, JobStatus], int]:
         """``{(process, status): jobs}`` over the whole store."""
-        return {(p, s): n for p, s, n in self._read(
+        return {(p, JobStatus(s)): n for p, s, n in self._read(
             "SELECT process, status, COUNT(*) FROM jobs GROUP BY process, status")}
 
     def unfinished(self) -> list[JobRecord]:
         """Jobs accepted or running, oldest first (what a restart must finish)."""
-        return self._jobs("WHERE status IN ('accepted', 'running') ORDER BY seq")
+        return self._jobs(f"WHERE {_IS_ACTIVE} ORDER BY seq")
 
     def inputs(self, job: JobRecord) -> dict[str, Any]:
         """The job's validated inputs, as the algorithm's keyword arguments."""
+        inputs: dict[str, Any]
         if job.inputs_file:
-            return load_inputs(self.data_dir / job.inputs_file)
-        ((blob,),) = self._read("SELECT inputs FROM jobs WHERE id = ?", (job.id,))
-        return pickle.loads(blob)
+            inputs = load_inputs(self.data_dir / job.inputs_file)
+        else:
+            ((blob,),) = self._read("SELECT inputs FROM jobs WHERE id = ?", (job.id,))
+            inputs = pickle.loads(blob)
+        return inputs
 
     def spool(self) -> Spool:
         """A new :class:`Spool` for a request body, in the inputs directory."""
@@ -538,7 +612,7 @@ class JobStore:
     def result(self, job_id: str) -> dict[str, Any]:
         """The outputs of a successful job."""
         rows = self._read("SELECT outputs FROM results WHERE id = ?", (job_id,))
-        if rows:
-            return pickle.loads(rows[0][0])
-        return pickle.loads(result_path(self.data_dir, job_id).read_bytes())
+        blob = rows[0][0] if rows else result_path(self.data_dir, job_id).read_bytes()
+        outputs: dict[str, Any] = pickle.loads(blob)
+        return outputs
 

@@ -10,8 +10,8 @@ from fastapi import Request
 from starlette.responses import Response
 
 from service.auth import KeyRing, owner_of
-from service.catalog import Process, lookup
 from service.binary import encode_arrays
+from service.catalog import Process, lookup
 from service.errors import ServiceError, problem_response
 from service.geometry_io import (
     MEDIA_GLB,
@@ -20,10 +20,11 @@ from service.geometry_io import (
     negotiate,
     npy_bytes,
 )
-from service.jsonio import JSONResponse
 from service.jobs.engine import Engine
 from service.jobs.spool import Spool
+from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobStore
+from service.jsonio import JSONResponse
 from service.metrics import Metrics
 from service.representation import results_document, status_info
 from service.settings import Settings
@@ -42,7 +43,8 @@ class State:
 
 
 def state(request: Request) -> State:
-    return request.app.state.morphserve
+    st: State = request.app.state.morphserve
+    return st
 
 
 def owner(st: State, request: Request) -> str | None:
@@ -155,7 +157,7 @@ def results_response(st: State, job: JobRecord, outputs: dict[str, Any], wanted:
     return JSONResponse(doc, headers=headers)
 
 
-def job_response(st: State, job: JobRecord, outcome: dict[str, Any] | None,
+def job_response(st: State, job: JobRecord, outcome: Outcome | None,
                  applied: str | None, *, waited: bool = True,
                  wanted: Wanted = Wanted()) -> Response:
     """How an execution request is answered once its job is as far as it will get: the
@@ -167,14 +169,14 @@ def job_response(st: State, job: JobRecord, outcome: dict[str, Any] | None,
         if applied:
             headers["Preference-Applied"] = applied
         return JSONResponse(status_info(job), status_code=201, headers=headers)
-    if job.status == "successful":
-        outputs = outcome["outputs"] if outcome and "outputs" in outcome else \
-            st.store.result(job.id)
+    if job.status is JobStatus.SUCCESSFUL:
+        outputs = outcome.outputs if outcome is not None and outcome.outputs is not None \
+            else st.store.result(job.id)
         headers["Content-Location"] = f"/jobs/{job.id}/results"
         if applied:
             headers["Preference-Applied"] = applied
         return results_response(st, job, outputs, wanted, headers)
-    if job.status in ("failed", "dismissed"):
+    if job.status in (JobStatus.FAILED, JobStatus.DISMISSED):
         return failure_response(job, headers)
     headers["Location"] = f"/jobs/{job.id}"
     if applied:
@@ -184,10 +186,10 @@ def job_response(st: State, job: JobRecord, outcome: dict[str, Any] | None,
 
 def failure_response(job: JobRecord, headers: dict[str, str] | None = None) -> JSONResponse:
     """The problem a failed or dismissed job ended with."""
-    from service.problems import problem_body
+    from service.problems import dismissed_problem, problem_body
 
-    if job.status == "dismissed":
-        body = problem_body("job-dismissed", "The job was dismissed before it finished.")
+    if job.status is JobStatus.DISMISSED:
+        body = dismissed_problem()
     else:
         body = dict(job.problem or problem_body("job-failed", job.message or "failed"))
     body["instance"] = f"/jobs/{job.id}"

@@ -70,11 +70,17 @@ class ProcessDescription(ProcessSummary):
     outputs: dict[str, OutputDescription]
 
 
+#: The names of :class:`service.jobs.status.JobStatus`, as a Literal: the OpenAPI document
+#: keeps its inline enum (an Enum would become a component of its own); a test checks that
+#: the two agree.
+StatusName = Literal["accepted", "running", "successful", "failed", "dismissed"]
+
+
 class StatusInfo(_Open):
     jobID: str
     processID: str
     type: Literal["process"]
-    status: Literal["accepted", "running", "successful", "failed", "dismissed"]
+    status: StatusName
     message: str
     created: str | None
     started: str | None

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from typing import Annotated, Literal
-
 from urllib.parse import urlencode
 
 from fastapi import APIRouter, Path, Query, Request
@@ -13,6 +12,7 @@ from starlette.responses import Response
 
 from service.errors import ServiceError
 from service.geometry_io import MEDIA_GLB, MEDIA_NPY
+from service.jobs.status import JobStatus
 from service.jsonio import JSONResponse
 from service.representation import status_info
 from service.routes import docs
@@ -30,26 +30,24 @@ router = APIRouter(tags=["jobs"])
 #: A process id: family and method, as in the catalog (`alignment.rigid`).
 PROCESS_ID = r"^[a-z][a-z0-9_]*\.[a-z][a-z0-9_]*$"
 
-Status = Literal["accepted", "running", "successful", "failed", "dismissed"]
-
 
 @router.get("/jobs", operation_id="getJobs", summary="List jobs, newest first",
             responses=docs.responses(docs.JobList, 422))
 async def list_jobs(
     request: Request,
-    status: Annotated[list[Status] | None, Query(description="Only jobs in these states.")]
-    = None,
+    status: Annotated[list[docs.StatusName] | None,
+                      Query(description="Only jobs in these states.")] = None,
     processID: Annotated[list[Annotated[str, Field(pattern=PROCESS_ID)]] | None, Query(  # noqa: N803
         description="Only jobs of these processes.")] = None,
     limit: Annotated[int, Query(ge=1, le=1000, description="Jobs per page.")] = 10,
     offset: Annotated[int, Query(ge=0, le=10**9, description="Jobs to skip.")] = 0,
 ) -> JSONResponse:
     st = state(request)
-    jobs, total = st.store.list(statuses=status or (), processes=processID or (), limit=limit,
+    jobs, total = st.store.page(statuses=status or (), processes=processID or (), limit=limit,
                                 offset=offset, owner=owner(st, request))
 
     def page(off: int) -> str:
-        q = [("limit", limit), ("offset", off)]
+        q: list[tuple[str, str | int]] = [("limit", limit), ("offset", off)]
         q += [("status", s) for s in status or ()] + [("processID", p) for p in processID or ()]
         return "/jobs?" + urlencode(q)
 
@@ -83,12 +81,12 @@ async def _results(request: Request, job_id: str, f: str | None, only: str | Non
     st = state(request)
     job = get_job(st, job_id, request)
     wanted = Wanted.of(request, f)
-    if job.status == "successful":
+    if job.status is JobStatus.SUCCESSFUL:
         outputs = await run_in_threadpool(st.store.result, job.id)
         # glTF and .npy encoding of large results takes a while: off the event loop
         return await run_in_threadpool(results_response, st, job, outputs, wanted,
                                        only=only)
-    if job.status in ("failed", "dismissed"):
+    if job.status in (JobStatus.FAILED, JobStatus.DISMISSED):
         return failure_response(job)
     raise ServiceError("result-not-ready", f"Job {job.id} is {job.status} "
                        f"({job.progress}%); poll /jobs/{job.id} until it is successful.")
@@ -137,10 +135,11 @@ async def dismiss(jobId: str, request: Request) -> JSONResponse:  # noqa: N803
         await st.store.write(st.store.dismiss, job.id)
         await st.engine.dismiss(job.id)
         job = get_job(st, jobId, request)
-        if job.status != "dismissed":  # it ended between the two reads
+        if job.status is not JobStatus.DISMISSED:  # it ended between the two reads
             await st.store.write(st.store.delete, job.id)
     else:
         await st.store.write(st.store.delete, job.id)
     info = status_info(job)
-    info.update(status="dismissed", links=[l for l in info["links"] if l["rel"] != "results"])
+    info.update(status=str(JobStatus.DISMISSED),
+                links=[link for link in info["links"] if link["rel"] != "results"])
     return JSONResponse(info)

@@ -22,7 +22,8 @@ CONFORMANCE = [OGC + c for c in ("core", "ogc-process-description", "json", "job
 @router.get("/", operation_id="getLandingPage", summary="Landing page",
             responses=docs.responses(docs.LandingPage))
 async def landing() -> JSONResponse:
-    def link(href: str, rel: str, title: str, type_: str = "application/json") -> dict:
+    def link(href: str, rel: str, title: str, type_: str = "application/json"
+             ) -> dict[str, str]:
         return {"href": href, "rel": rel, "type": type_, "title": title}
 
     return JSONResponse({

@@ -6,23 +6,24 @@ import hashlib
 import math
 import sqlite3
 import time
-import uuid
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, Literal
 
 from fastapi import APIRouter, Request
-from starlette.responses import Response
 from pydantic import ValidationError
+from starlette.responses import Response
 
-from service import jsonio
-from service.auth import owner_of
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.params import Kind
+from service import jsonio
+from service.auth import owner_of
 from service.binary import LIFT_CHARS, Lifted, decode_arrays, lift_base64, owned
 from service.catalog import Process, processes
 from service.errors import ServiceError
-from service.jobs.spool import Spool
-from service.jobs.store import JobRecord
 from service.geometry_io import decode_upload, parse_multipart, place_upload, resolve_refs
+from service.jobs.spool import Spool
+from service.jobs.status import JobStatus, Outcome
+from service.jobs.store import JobRecord, JobRequest
 from service.jsonio import JSONResponse
 from service.problems import pydantic_errors
 from service.representation import process_description, process_summary
@@ -110,7 +111,6 @@ def _multipart_body(process: Process, raw: bytes, content_type: str, st: State,
     return body, identity.digest() if identify else b""
 
 
-_GEOMETRY_INPUTS: dict[str, dict[str, str]] = {}
 _TAKES = {Kind.MESH: "mesh", Kind.SHAPE: "either"}
 
 
@@ -119,18 +119,7 @@ def _takes(process: Process, name: str) -> str:
     ``"either"`` for one that takes a mesh or points (a shape), else ``"points"`` (its
     vertices); read from the input's declared kind."""
     kind = process.kinds.get(name)
-    if kind is not None:
-        return _TAKES.get(kind, "points")
-    if process.id not in _GEOMETRY_INPUTS:  # TODO(#16): entries not yet declared
-        schema = process.params.model_json_schema(mode="validation")
-        kinds = {}
-        for key, prop in schema.get("properties", {}).items():
-            alternatives = prop.get("anyOf", [prop])
-            mesh = any("faces" in alt.get("properties", {}) for alt in alternatives)
-            points = any(alt.get("type") == "array" for alt in alternatives)
-            kinds[key] = "either" if mesh and points else "mesh" if mesh else "points"
-        _GEOMETRY_INPUTS[process.id] = kinds
-    return _GEOMETRY_INPUTS[process.id].get(name, "points")
+    return "points" if kind is None else _TAKES.get(kind, "points")
 
 
 def _fetch_output(st: State, who: str | None) -> Any:
@@ -141,7 +130,7 @@ def _fetch_output(st: State, who: str | None) -> Any:
         if job is None or (st.keyring is not None and job.owner != who):
             raise InvalidInputError(f"`{field}` refers to job {job_id!r}, which does not "
                                     "exist.", field=field)
-        if job.status != "successful":
+        if job.status is not JobStatus.SUCCESSFUL:
             raise InvalidInputError(f"`{field}` refers to job {job_id}, which is "
                                     f"{job.status}; only results of successful jobs can be "
                                     "inputs.", field=field)
@@ -167,7 +156,7 @@ def _lifted_json_body(raw: bytearray) -> tuple[Any, Lifted | None]:
 
 
 def _parse_lifted(process: Process, body: Any, raw: bytearray, lifted: Lifted | None,
-                  st: State, fetch: Any, origin: str) -> tuple[dict[str, Any], Lifted | None]:
+                  st: State, fetch: Any, origin: str) -> tuple[ExecuteSpec, Lifted | None]:
     """:func:`_parse_execute` of a body whose base64 strings were cut out; if it fails, or
     a cut-out string was not the data of a typed binary array, the body itself is parsed
     and executed again, so that what it gives (and any error) is exactly what the body
@@ -183,8 +172,28 @@ def _parse_lifted(process: Process, body: Any, raw: bytearray, lifted: Lifted | 
     return _parse_execute(process, body, st, fetch, origin), None
 
 
+@dataclass(frozen=True)
+class ExecuteSpec:
+    """An execute request, checked: what :func:`_parse_execute` makes of its body."""
+
+    inputs: dict[str, Any]
+    """The inputs, validated, as the method's keyword arguments (arrays may be views of
+    the request body)."""
+    input_bytes: int
+    """The inputs' size, roughly: their arrays' bytes, 64 for any other value (what the
+    fast path's ``fast_path_bytes`` is compared with)."""
+    time_limit: float
+    """Seconds the job may run: the least of the family's (else the service's) limit, the
+    process's and the request's ``timeLimit``."""
+    request: JobRequest
+    """What the client asked for besides the inputs (outputs, response, subscriber)."""
+    mode: Literal["sync", "async"] | None
+    """The body's ``mode`` (OGC API – Processes 1.0), which a ``Prefer`` header overrides;
+    None when absent or neither of these."""
+
+
 def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
-                   origin: str = "", lifted: Lifted | None = None) -> dict[str, Any]:
+                   origin: str = "", lifted: Lifted | None = None) -> ExecuteSpec:
     if not isinstance(body, dict):
         raise ServiceError("malformed-body", "Expected a JSON object "
                            '{"inputs": {...}}, got ' + type(body).__name__ + ".")
@@ -210,16 +219,17 @@ def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
         detail = "; ".join(f"{e['input']}: {e['message']}" for e in errors)
         raise ServiceError("invalid-input", detail, errors=errors) from None
 
-    outputs = body.get("outputs")
-    if outputs is not None:
-        if not isinstance(outputs, dict) or not outputs:
+    asked_outputs = body.get("outputs")
+    outputs: tuple[str, ...] | None = None
+    if asked_outputs is not None:
+        if not isinstance(asked_outputs, dict) or not asked_outputs:
             raise _invalid("outputs", "Expected an object naming some of the outputs "
                            f"{sorted(process.outputs)}.")
-        bad = sorted(set(outputs) - set(process.outputs))
+        bad = sorted(set(asked_outputs) - set(process.outputs))
         if bad:
             raise _invalid(f"outputs.{bad[0]}", f"No such output; expected some of "
                            f"{sorted(process.outputs)}.")
-        outputs = [name for name in process.outputs if name in outputs]
+        outputs = tuple(name for name in process.outputs if name in asked_outputs)
     response = body.get("response", "document")
     if response not in ("document", "raw"):
         raise _invalid("response", f"Expected 'document' or 'raw', got {response!r}.")
@@ -236,10 +246,12 @@ def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
 
     subscriber = check_subscriber(body.get("subscriber"), st.settings.callback_hosts)
     kwargs = process.kwargs(params)
-    return {"kwargs": kwargs, "nbytes": sum(getattr(v, "nbytes", 64) for v in kwargs.values()),
-            "time_limit": time_limit,
-            "request": {"outputs": outputs, "response": response, "subscriber": subscriber},
-            "mode": body.get("mode")}
+    mode = body.get("mode")
+    return ExecuteSpec(
+        inputs=kwargs, input_bytes=sum(getattr(v, "nbytes", 64) for v in kwargs.values()),
+        time_limit=time_limit,
+        request=JobRequest(outputs=outputs, response=response, subscriber=subscriber),
+        mode=mode if mode == "sync" or mode == "async" else None)
 
 
 @router.post(
@@ -284,6 +296,7 @@ async def _execute(st: State, process: Process, request: Request, header: str,
     raw = await read_body(request, st.settings.max_request_bytes, spool)
     key = request.headers.get("idempotency-key")
     lifted = None
+    identity: bytes | bytearray  # what identifies the request for an Idempotency-Key
     if multipart:
         body, identity = _multipart_body(process, raw, header, st, identify=bool(key))
     else:
@@ -312,55 +325,52 @@ async def _execute(st: State, process: Process, request: Request, header: str,
             raise ServiceError("queue-full", f"This API key has {mine} jobs waiting or "
                                f"running; the limit per key is "
                                f"{st.settings.max_queue_per_key}.", headers={"Retry-After": "5"})
-    fast = process.fast_path and spec["nbytes"] <= st.settings.fast_path_bytes
-    if fast:  # it runs here: arrays that are views of the body are copied out of it
-        spec["kwargs"] = owned(spec["kwargs"])
-    wait, applied = _wait_for(prefer, process, spec.get("mode"), st)
-    args = dict(process=process.id, inputs=spec["kwargs"], request=spec["request"],
-                time_limit=spec["time_limit"], idempotency_key=key, request_hash=digest,
-                owner=who)
+    fast = process.fast_path and spec.input_bytes <= st.settings.fast_path_bytes
+    # runs here: arrays that are views of the body are copied out of it
+    inputs = owned(spec.inputs) if fast else spec.inputs
+    wait, applied = _wait_for(prefer, process, spec.mode, st)
+    # the job's record but for its id and times, as JobStore.create takes it
+    args: dict[str, Any] = {"process": process.id, "request": spec.request,
+                            "time_limit": spec.time_limit, "idempotency_key": key,
+                            "request_hash": digest, "owner": who}
     try:
-        if fast and wait > 0 and not spec["request"].get("subscriber"):
-            job, outcome = await _run_first(st, args, wait)
+        if fast and wait > 0 and spec.request.subscriber is None:
+            job, outcome = await _run_first(st, args, inputs, wait)
             if job.active:
                 applied = "respond-async" if applied else None
             return job_response(st, job, outcome, applied, wanted=wanted)
-        job = await st.store.write(st.store.create, **args, spool=spool, body=raw,
-                                   encoded=lifted.decoded if lifted else ())
+        job = await st.store.write(st.store.create, **args, inputs=inputs, spool=spool,
+                                   body=raw, encoded=lifted.decoded if lifted else ())
     except sqlite3.IntegrityError:  # the same key raced in from another request
         earlier = st.store.by_idempotency_key(key or "", who)
         assert earlier is not None
         return await _answer_existing(st, earlier, digest, prefer, process, wanted)
     # large inputs went to the store's file as they were (views of the body: no copy on the
     # way to the disk) and the worker reads them from there; small ones travel inline
-    st.engine.submit(job, owned(spec["kwargs"]) if job.inputs_file is None
+    st.engine.submit(job, owned(inputs) if job.inputs_file is None
                      else st.store.payload(job), fast=fast)
-    return await _answer(st, job.id, prefer, process, spec.get("mode"), wanted)
+    return await _answer(st, job.id, prefer, process, spec.mode, wanted)
 
 
-async def _run_first(st: State, args: dict[str, Any], wait: float
-                     ) -> tuple[JobRecord, dict[str, Any] | None]:
+async def _run_first(st: State, args: dict[str, Any], inputs: dict[str, Any], wait: float
+                     ) -> tuple[JobRecord, Outcome | None]:
     """A fast-path job the client waits for: run, then recorded with its outcome in one
-    commit (or recorded accepted if it outlasts the wait; see ``Engine.run_first``)."""
-    now = time.time()
-    job = JobRecord(id=str(uuid.uuid4()), process=args["process"], status="accepted",
-                    message="", progress=0, created=now, started=None, finished=None,
-                    updated=now, request=dict(args["request"]), problem=None,
-                    time_limit=args["time_limit"], idempotency_key=args["idempotency_key"],
-                    request_hash=args["request_hash"], attempts=0, inputs_file=None,
-                    owner=args["owner"])
+    commit (or recorded accepted if it outlasts the wait; see ``Engine.run_first``).
+    ``args`` are :meth:`JobStore.create`'s but the inputs, its id and its times."""
+    job = JobRecord.accepted(**args, created=time.time())
 
-    async def record(outcome: dict[str, Any] | None, started: float) -> JobRecord:
-        ids = dict(args, job_id=job.id, created=now)
+    async def record(outcome: Outcome | None, started: float) -> JobRecord:
+        create = dict(args, inputs=inputs, job_id=job.id, created=job.created)
         if outcome is None:
-            return await st.store.write(st.store.create, **ids)
-        return await st.store.write(st.store.create_finished, outcome, started=started, **ids)
+            return await st.store.write(st.store.create, **create)
+        return await st.store.write(st.store.create_finished, outcome, started=started,
+                                    **create)
 
-    return await st.engine.run_first(job, args["inputs"], wait if math.isfinite(wait) else 1e9,
+    return await st.engine.run_first(job, inputs, wait if math.isfinite(wait) else 1e9,
                                      record)
 
 
-def _wait_for(prefer: dict[str, str | None], process: Process, mode: Any,
+def _wait_for(prefer: dict[str, str | None], process: Process, mode: str | None,
               st: State) -> tuple[float, str | None]:
     """Seconds to wait for the job before answering 201, and the preference applied."""
     if "wait" in prefer:
@@ -381,7 +391,7 @@ def _wait_for(prefer: dict[str, str | None], process: Process, mode: Any,
 
 
 async def _answer(st: State, job_id: str, prefer: dict[str, str | None], process: Process,
-                  mode: Any, wanted: Wanted) -> Response:
+                  mode: str | None, wanted: Wanted) -> Response:
     wait, applied = _wait_for(prefer, process, mode, st)
     outcome = None
     if wait > 0:
@@ -393,7 +403,7 @@ async def _answer(st: State, job_id: str, prefer: dict[str, str | None], process
     return job_response(st, job, outcome, applied, waited=wait > 0, wanted=wanted)
 
 
-async def _answer_existing(st: State, job, digest: str | None,  # noqa: ANN001
+async def _answer_existing(st: State, job: JobRecord, digest: str | None,
                            prefer: dict[str, str | None], process: Process,
                            wanted: Wanted) -> Response:
     if job.request_hash != digest:

@@ -11,7 +11,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from service.jobs.store import ACTIVE, FINISHED, JobRecord, JobStore, result_path, write_atomic
+from service.jobs.status import ACTIVE, FINISHED, JobStatus, Outcome
+from service.jobs.store import (
+    JobRecord,
+    JobRequest,
+    JobStore,
+    Subscriber,
+    result_path,
+    write_atomic,
+)
 
 
 @pytest.fixture
@@ -23,7 +31,7 @@ def store(tmp_path: Path) -> Iterator[JobStore]:
 
 def _create(store: JobStore, process: str = "alignment.rigid", **kw) -> JobRecord:  # noqa: ANN003
     kw.setdefault("inputs", {"k": 1})
-    kw.setdefault("request", {})
+    kw.setdefault("request", JobRequest())
     kw.setdefault("time_limit", None)
     return store.create(process=process, **kw)
 
@@ -40,8 +48,8 @@ def _same_array(a: np.ndarray, b: np.ndarray) -> bool:
 # -- creating and reading ------------------------------------------------------------------
 def test_create_then_get(store: JobStore) -> None:
     before = time.time()
-    request = {"outputs": ["rmse"], "response": "raw",
-               "subscriber": {"successUri": "http://cb.example/done"}}
+    request = JobRequest(outputs=("rmse",), response="raw",
+                         subscriber=Subscriber(success_uri="http://cb.example/done"))
     job = store.create(process="alignment.rigid", inputs={"k": 1}, request=request,
                        time_limit=12.5, request_hash="abc")
     after = time.time()
@@ -56,6 +64,34 @@ def test_create_then_get(store: JobStore) -> None:
     assert got.time_limit == 12.5
     assert got.request_hash == "abc" and got.idempotency_key is None
     assert got.problem is None and got.inputs_file is None
+
+
+def test_request_is_stored_as_json_as_before(tmp_path: Path, store: JobStore) -> None:
+    """The request column holds the JSON object earlier versions wrote, and rows they wrote
+    (``'{}'`` included, the column's default) read back as a :class:`JobRequest`."""
+    request = JobRequest(outputs=("rmse", "rotation"), response="raw", subscriber=Subscriber(
+        success_uri="http://cb.example/ok", failed_uri="http://cb.example/ko"))
+    job = _create(store, request=request)
+    db = sqlite3.connect(tmp_path / "jobs.sqlite3")
+    try:
+        (stored,) = db.execute("SELECT request FROM jobs WHERE id = ?", (job.id,)).fetchone()
+        assert stored == ('{"outputs": ["rmse", "rotation"], "response": "raw", "subscriber": '
+                          '{"successUri": "http://cb.example/ok", '
+                          '"failedUri": "http://cb.example/ko"}}')
+        old = {"old-full": '{"outputs": null, "response": "document", "subscriber": '
+                           '{"inProgressUri": "http://cb.example/p"}}',
+               "old-empty": "{}"}
+        for job_id, text in old.items():
+            db.execute("INSERT INTO jobs (id, process, status, created, updated, request) "
+                       "VALUES (?, 'p', 'running', 1, 1, ?)", (job_id, text))
+        db.commit()
+    finally:
+        db.close()
+    assert store.get(job.id).request == request
+    full, empty = store.get("old-full"), store.get("old-empty")
+    assert full.request == JobRequest(subscriber=Subscriber(in_progress_uri="http://cb.example/p"))
+    assert empty.request == JobRequest()
+    assert full.status is JobStatus.RUNNING and full.active
 
 
 def test_get_unknown_job_is_none(store: JobStore) -> None:
@@ -166,17 +202,18 @@ def test_finish_on_accepted_job(store: JobStore) -> None:
 
 
 @pytest.mark.parametrize("outcome", [
-    {"status": "successful", "outputs": {"x": np.arange(3.0)}},
-    {"status": "failed", "problem": {"type": "/problems/invalid-input", "status": 422,
-                                     "detail": "bad source", "errors": []}}])
-def test_create_finished_is_one_transaction(store: JobStore, outcome: dict) -> None:
+    Outcome.successful({"x": np.arange(3.0)}),
+    Outcome.failed({"type": "/problems/invalid-input", "status": 422, "detail": "bad source",
+                    "errors": []})])
+def test_create_finished_is_one_transaction(store: JobStore, outcome: Outcome) -> None:
     """A job that ran before its row: row, inputs and outcome in one commit, and the record
     it returns is the one read back."""
     statements: list[str] = []
     store._db.set_trace_callback(statements.append)
     started = time.time()
     job = store.create_finished(outcome, started=started, process="alignment.rigid",
-                                inputs={"source": _points(5)}, request={}, time_limit=None,
+                                inputs={"source": _points(5)}, request=JobRequest(),
+                                time_limit=None,
                                 job_id="fixed-id", created=started - 0.5)
     store._db.set_trace_callback(None)
     words = [st.split()[0].upper() for st in statements]
@@ -184,13 +221,13 @@ def test_create_finished_is_one_transaction(store: JobStore, outcome: dict) -> N
     assert words[0] == "BEGIN" and words[-1] == "COMMIT", statements
     assert job.id == "fixed-id" and job.created == started - 0.5 and job.started == started
     assert store.get(job.id) == job
-    assert job.status == outcome["status"] and not job.active
+    assert job.status is outcome.status and not job.active
     assert job.finished is not None and job.finished >= started
     if job.status == "successful":
         assert job.progress == 100 and job.message == "done"
         assert _same_array(store.result(job.id)["x"], np.arange(3.0))
     else:
-        assert job.problem == outcome["problem"] and job.message == "bad source"
+        assert job.problem == outcome.problem and job.message == "bad source"
     assert _same_array(store.inputs(job)["source"], _points(5))
 
 
@@ -303,29 +340,29 @@ def populated(store: JobStore) -> tuple[JobStore, list[JobRecord]]:
     return store, jobs
 
 
-def test_list_newest_first_with_total(populated) -> None:  # noqa: ANN001
+def test_page_newest_first_with_total(populated) -> None:  # noqa: ANN001
     store, jobs = populated
-    page, total = store.list(limit=100)
+    page, total = store.page(limit=100)
     assert total == 8
     assert [j.id for j in page] == [j.id for j in reversed(jobs)]
     assert page == list(reversed(jobs))  # full records
 
 
-def test_list_limit_offset(populated) -> None:  # noqa: ANN001
+def test_page_limit_offset(populated) -> None:  # noqa: ANN001
     store, jobs = populated
     newest_first = [j.id for j in reversed(jobs)]
-    page, total = store.list(limit=3, offset=0)
+    page, total = store.page(limit=3, offset=0)
     assert total == 8 and [j.id for j in page] == newest_first[:3]
-    page, total = store.list(limit=3, offset=3)
+    page, total = store.page(limit=3, offset=3)
     assert total == 8 and [j.id for j in page] == newest_first[3:6]
-    page, total = store.list(limit=3, offset=6)
+    page, total = store.page(limit=3, offset=6)
     assert total == 8 and [j.id for j in page] == newest_first[6:]
-    page, total = store.list(limit=3, offset=100)
+    page, total = store.page(limit=3, offset=100)
     assert total == 8 and page == []
-    assert len(store.list()[0]) == 8  # default limit 10
+    assert len(store.page()[0]) == 8  # default limit 10
 
 
-def test_list_filters(populated) -> None:  # noqa: ANN001
+def test_page_filters(populated) -> None:  # noqa: ANN001
     store, jobs = populated
 
     def expect(statuses=(), processes=()):  # noqa: ANN001, ANN202
@@ -342,14 +379,14 @@ def test_list_filters(populated) -> None:  # noqa: ANN001
         (("dismissed",), ("assignment.nearest",)),
         ((), ("no.such",)),
     ]:
-        page, total = store.list(statuses=statuses, processes=processes, limit=100)
+        page, total = store.page(statuses=statuses, processes=processes, limit=100)
         assert [j.id for j in page] == expect(statuses, processes), (statuses, processes)
         assert total == len(expect(statuses, processes))
     # the total counts every match, not only the page
-    page, total = store.list(statuses=["accepted", "running"], limit=1)
+    page, total = store.page(statuses=["accepted", "running"], limit=1)
     assert len(page) == 1 and total == 4
     # generators are accepted as filters
-    page, total = store.list(statuses=(s for s in ["failed"]), limit=5)
+    page, total = store.page(statuses=(s for s in ["failed"]), limit=5)
     assert total == 1 and page[0].status == "failed"
 
 
@@ -363,7 +400,7 @@ def test_counts(populated) -> None:  # noqa: ANN001
 def test_counts_of_empty_store(store: JobStore) -> None:
     assert store.count_active() == 0
     assert store.count_by_status() == {}
-    assert store.list() == ([], 0)
+    assert store.page() == ([], 0)
     assert store.unfinished() == []
 
 
@@ -376,19 +413,27 @@ def test_unfinished_oldest_first(populated) -> None:  # noqa: ANN001
                                            "dismissed"}
 
 
+def test_statuses_are_their_wire_strings() -> None:
+    assert set(ACTIVE) | set(FINISHED) == set(JobStatus) and not set(ACTIVE) & set(FINISHED)
+    assert [str(s) for s in JobStatus] == ["accepted", "running", "successful", "failed",
+                                           "dismissed"]
+    assert all(s.active == (s in ACTIVE) for s in JobStatus)
+    assert JobStatus("failed") is JobStatus.FAILED and f"{JobStatus.RUNNING}" == "running"
+
+
 # -- idempotency keys ----------------------------------------------------------------------
 def test_idempotency_key_is_unique(store: JobStore) -> None:
     job = _create(store, idempotency_key="key-1", request_hash="h1")
     assert store.by_idempotency_key("key-1") == job
     with pytest.raises(sqlite3.IntegrityError):
         _create(store, idempotency_key="key-1", request_hash="h2")
-    assert store.list()[1] == 1  # nothing half-created
+    assert store.page()[1] == 1  # nothing half-created
     other = _create(store, idempotency_key="key-2")
     assert store.by_idempotency_key("key-2").id == other.id
     # jobs without a key do not collide with each other
     _create(store)
     _create(store)
-    assert store.list()[1] == 4
+    assert store.page()[1] == 4
 
 
 # -- results written by a worker -----------------------------------------------------------
@@ -423,25 +468,26 @@ def test_write_atomic_replaces(tmp_path: Path) -> None:
 def test_store_survives_reopening(tmp_path: Path) -> None:
     store = JobStore(tmp_path, inline_input_bytes=256)  # fsync on, as in production
     big = _points(200)
-    done = store.create(process="alignment.rigid", inputs={"source": big}, request={"a": 1},
+    done = store.create(process="alignment.rigid", inputs={"source": big},
+                        request=JobRequest(outputs=("rotation",)),
                         time_limit=5.0, idempotency_key="k")
     store.mark_running(done.id)
     store.finish(done.id, "successful", "done", outputs={"rotation": np.eye(3)})
-    waiting = store.create(process="assignment.nearest", inputs={"k": 2}, request={},
+    waiting = store.create(process="assignment.nearest", inputs={"k": 2}, request=JobRequest(),
                            time_limit=None)
-    running = store.create(process="assignment.nearest", inputs={"k": 3}, request={},
+    running = store.create(process="assignment.nearest", inputs={"k": 3}, request=JobRequest(),
                            time_limit=None)
     store.mark_running(running.id)
     store.set_progress(running.id, 60, "halfway")
-    worker_done = store.create(process="alignment.rigid", inputs={}, request={},
+    worker_done = store.create(process="alignment.rigid", inputs={}, request=JobRequest(),
                                time_limit=None)
     write_atomic(result_path(tmp_path, worker_done.id), pickle.dumps({"rmse": 2.0}))
-    before = {j.id: j for j in store.list(limit=100)[0]}
+    before = {j.id: j for j in store.page(limit=100)[0]}
     store.close()
 
     again = JobStore(tmp_path, inline_input_bytes=256)
     try:
-        after = {j.id: j for j in again.list(limit=100)[0]}
+        after = {j.id: j for j in again.page(limit=100)[0]}
         assert after == before
         assert _same_array(again.result(done.id)["rotation"], np.eye(3))
         assert _same_array(again.inputs(again.get(done.id))["source"], big)
@@ -453,7 +499,7 @@ def test_store_survives_reopening(tmp_path: Path) -> None:
         assert again.result(worker_done.id) == {"rmse": 2.0}
         # new jobs still go after the old ones
         newest = _create(again)
-        assert again.list(limit=1)[0][0].id == newest.id
+        assert again.page(limit=1)[0][0].id == newest.id
         with pytest.raises(sqlite3.IntegrityError):
             _create(again, idempotency_key="k")
     finally:
@@ -497,21 +543,23 @@ def test_failed_create_leaves_no_inputs_file(tmp_path: Path) -> None:
 
 
 def test_jobs_are_listed_and_counted_per_owner(store: JobStore) -> None:
-    a = store.create(process="p", inputs={}, request={}, time_limit=None, owner="alice")
-    b = store.create(process="p", inputs={}, request={}, time_limit=None, owner="bob")
+    a = store.create(process="p", inputs={}, request=JobRequest(), time_limit=None,
+                     owner="alice")
+    b = store.create(process="p", inputs={}, request=JobRequest(), time_limit=None,
+                     owner="bob")
     assert store.get(a.id).owner == "alice" and store.get(b.id).owner == "bob"
-    assert [j.id for j in store.list(owner="alice")[0]] == [a.id]
-    assert store.list(owner="carol") == ([], 0)
-    assert store.list()[1] == 2  # None: everyone's
+    assert [j.id for j in store.page(owner="alice")[0]] == [a.id]
+    assert store.page(owner="carol") == ([], 0)
+    assert store.page()[1] == 2  # None: everyone's
     assert store.count_active("alice") == 1 and store.count_active() == 2
     store.finish(a.id, "successful", "done", outputs={})
     assert store.count_active("alice") == 0 and store.count_active("bob") == 1
 
 
 def test_idempotency_keys_are_scoped_by_owner(store: JobStore) -> None:
-    a = store.create(process="p", inputs={}, request={}, time_limit=None,
+    a = store.create(process="p", inputs={}, request=JobRequest(), time_limit=None,
                      idempotency_key="k", owner="alice")
-    b = store.create(process="p", inputs={}, request={}, time_limit=None,
+    b = store.create(process="p", inputs={}, request=JobRequest(), time_limit=None,
                      idempotency_key="k", owner="bob")  # no IntegrityError: another owner
     assert store.by_idempotency_key("k", "alice").id == a.id
     assert store.by_idempotency_key("k", "bob").id == b.id
@@ -519,7 +567,7 @@ def test_idempotency_keys_are_scoped_by_owner(store: JobStore) -> None:
     assert store.by_idempotency_key("k") is None  # the open service's "" owner
     assert store.get(a.id).idempotency_key == "k"  # reported as the client sent it
     with pytest.raises(sqlite3.IntegrityError):
-        store.create(process="p", inputs={}, request={}, time_limit=None,
+        store.create(process="p", inputs={}, request=JobRequest(), time_limit=None,
                      idempotency_key="k", owner="alice")
 
 
@@ -540,7 +588,8 @@ def test_a_store_from_before_owners_is_migrated(tmp_path: Path) -> None:
     s = JobStore(tmp_path, fsync=False)
     try:
         assert s.get("old").owner == "" and s.unfinished()[0].id == "old"
-        new = s.create(process="p", inputs={}, request={}, time_limit=None, owner="alice")
+        new = s.create(process="p", inputs={}, request=JobRequest(), time_limit=None,
+                       owner="alice")
         assert s.get(new.id).owner == "alice"
     finally:
         s.close()

@@ -6,21 +6,23 @@ from __future__ import annotations
 import json
 import math
 import struct
-from typing import Any
+from typing import Any, get_args
 
 import numpy as np
 import pytest
 from pydantic import ValidationError
 
+from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from service import jsonio
 from service.callbacks import check_subscriber
 from service.catalog import registry
 from service.errors import ServiceError
-from service.jobs.store import JobRecord
+from service.jobs.status import JobStatus
+from service.jobs.store import JobRecord, JobRequest, Subscriber
 from service.problems import PROBLEMS, geometry_error_problem, problem_body, pydantic_errors
 from service.representation import iso, results_document, status_info
+from service.routes import docs
 from service.routes.common import parse_prefer
-from algorithms.core.errors import DegenerateInputError, InvalidInputError
 
 
 # -- Prefer (RFC 7240) ---------------------------------------------------------------------
@@ -77,12 +79,16 @@ def test_subscriber_allowed_hosts() -> None:
     sub = {"successUri": "https://cb.example/done?job=1",
            "inProgressUri": "http://cb.example:9000/progress",  # a bare host allows any port
            "failedUri": "http://127.0.0.1/failed"}
-    assert check_subscriber(sub, HOSTS) == sub
+    got = check_subscriber(sub, HOSTS)
+    assert got == Subscriber(success_uri="https://cb.example/done?job=1",
+                             in_progress_uri="http://cb.example:9000/progress",
+                             failed_uri="http://127.0.0.1/failed")
+    assert got.to_json() == sub  # as the request named them, and as the store keeps them
 
 
 def test_subscriber_host_port_entry() -> None:
     assert check_subscriber({"successUri": "https://hooks.example:8443/x"}, HOSTS) == \
-        {"successUri": "https://hooks.example:8443/x"}
+        Subscriber(success_uri="https://hooks.example:8443/x")
     # a host:port entry allows that port only
     err = _refused({"successUri": "https://hooks.example/x"}, "subscriber.successUri")
     assert "hooks.example" in err.errors[0]["message"]
@@ -303,7 +309,7 @@ def test_pydantic_errors_request_locations() -> None:
 def _record(**kw: Any) -> JobRecord:
     base = dict(id="j-1", process="alignment.rigid", status="accepted", message="",
                 progress=0, created=1_700_000_000.0, started=None, finished=None,
-                updated=1_700_000_000.25, request={}, problem=None, time_limit=None,
+                updated=1_700_000_000.25, request=JobRequest(), problem=None, time_limit=None,
                 idempotency_key=None, request_hash=None, attempts=0, inputs_file=None)
     return JobRecord(**{**base, **kw})
 
@@ -342,7 +348,14 @@ def test_status_info(status: str) -> None:
         assert results["href"] == "/jobs/j-1/results"
     else:
         assert "results" not in rels
+    assert type(info["status"]) is str and isinstance(job.status, JobStatus)
     json.loads(jsonio.dumps(info))
+
+
+def test_the_documented_statuses_are_the_enum() -> None:
+    """The OpenAPI document's status enum (a Literal, so that it stays inline) is
+    :class:`JobStatus`, in the same order."""
+    assert list(get_args(docs.StatusName)) == [str(s) for s in JobStatus]
 
 
 _OUTPUTS = {"rotation": np.eye(3), "translation": np.zeros(3), "rmse": 0.5,
@@ -350,27 +363,29 @@ _OUTPUTS = {"rotation": np.eye(3), "translation": np.zeros(3), "rmse": 0.5,
 
 
 def test_results_document_all_outputs() -> None:
-    for request in ({}, {"outputs": None, "response": "document"}, {"outputs": []}):
+    for request in (JobRequest(), JobRequest(outputs=None, response="document"),
+                    JobRequest(outputs=())):
         doc = results_document(_OUTPUTS, request)
         assert list(doc) == list(_OUTPUTS)
         assert doc["rotation"] is _OUTPUTS["rotation"]  # values stay numpy
 
 
 def test_results_document_subset() -> None:
-    doc = results_document(_OUTPUTS, {"outputs": ["rmse", "rotation"], "response": "document"})
+    doc = results_document(_OUTPUTS, JobRequest(outputs=("rmse", "rotation")))
     assert doc == {"rmse": 0.5, "rotation": _OUTPUTS["rotation"]}
-    assert results_document(_OUTPUTS, {"outputs": ["rmse", "nope"]}) == {"rmse": 0.5}
+    assert results_document(_OUTPUTS, JobRequest(outputs=("rmse", "nope"))) == {"rmse": 0.5}
 
 
 def test_results_document_raw() -> None:
-    assert results_document(_OUTPUTS, {"outputs": ["rmse"], "response": "raw"}) == 0.5
-    raw = results_document(_OUTPUTS, {"outputs": ["rotation"], "response": "raw"})
+    assert results_document(_OUTPUTS, JobRequest(outputs=("rmse",), response="raw")) == 0.5
+    raw = results_document(_OUTPUTS, JobRequest(outputs=("rotation",), response="raw"))
     assert raw is _OUTPUTS["rotation"]
     assert json.loads(jsonio.dumps(raw)) == np.eye(3).tolist()
     # raw with several outputs stays a document
-    doc = results_document(_OUTPUTS, {"outputs": ["rmse", "reflection"], "response": "raw"})
+    doc = results_document(_OUTPUTS, JobRequest(outputs=("rmse", "reflection"),
+                                                 response="raw"))
     assert doc == {"rmse": 0.5, "reflection": False}
-    assert results_document({"rmse": 1.0}, {"response": "raw"}) == 1.0
+    assert results_document({"rmse": 1.0}, JobRequest(response="raw")) == 1.0
 
 
 # -- results must be finite ------------------------------------------------------------------
