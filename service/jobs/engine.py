@@ -71,6 +71,8 @@ class _Handle:
     """The fast path's dismissal flag."""
     started: float | None = None
     marked_running: bool = False
+    recording: bool = False
+    """The outcome is being committed: the handle stays in the table until it is durable."""
 
 
 #: Dask's monitoring, turned down. The embedded scheduler and the nannies live in the
@@ -308,13 +310,20 @@ class Engine:
 
     async def _record(self, handle: _Handle, outcome: Outcome) -> None:
         job = handle.job
-        if self._jobs.get(job.id) is not handle:  # recorded already (time-limit sweep)
-            return
-        del self._jobs[job.id]
+        if self._jobs.get(job.id) is not handle or handle.recording:
+            return  # recorded already, or being recorded (the time-limit sweep)
+        handle.recording = True
         started = time.time() - (time.monotonic() - handle.started) if handle.started else None
-        if outcome.status is not JobStatus.DISMISSED:  # a dismissal is recorded by the route
-            await self.store.write(self.store.finish, job.id, outcome.status, outcome.message,
-                                   outcome.problem, outcome.outputs, started=started)
+        try:
+            if outcome.status is not JobStatus.DISMISSED:  # the route records a dismissal
+                await self.store.write(self.store.finish, job.id, outcome.status,
+                                       outcome.message, outcome.problem, outcome.outputs,
+                                       started=started)
+        finally:
+            # Only now does the job leave the table: a request that arrives while the outcome
+            # is being committed (an idempotent retry with Prefer: wait) waits for it here,
+            # instead of finding no handle, reading the row still active and answering 201.
+            del self._jobs[job.id]
         if handle.future is not None and (outcome.status is JobStatus.DISMISSED
                                           or outcome.timed_out):
             # The worker may look at the event for a while yet: a cancelled Dask future does
@@ -365,7 +374,7 @@ class Engine:
             now = time.monotonic()
             for handle in list(self._jobs.values()):
                 limit = handle.job.time_limit
-                if handle.started is None or limit is None or now - handle.started < limit + GRACE:
+                if handle.recording or handle.started is None or limit is None or now - handle.started < limit + GRACE:
                     continue
                 log.warning("job %s ignored its time limit of %g s; stopping it",
                             handle.job.id, limit)
