@@ -18,7 +18,7 @@ from typing import Any
 
 import httpx
 
-__all__ = ["LiveServer", "free_port", "wait_for_status", "TERMINAL"]
+__all__ = ["LiveServer", "free_port", "execute", "wait_for_status", "TERMINAL"]
 
 TERMINAL = ("successful", "failed", "dismissed")
 REPO = Path(__file__).resolve().parents[1]
@@ -120,3 +120,24 @@ def wait_for_status(client: httpx.Client, job_id: str, statuses: tuple[str, ...]
         if time.monotonic() > deadline:
             raise AssertionError(f"job {job_id} still {info['status']} after {timeout} s")
         time.sleep(0.05)
+
+
+def execute(http: httpx.Client, process_id: str, inputs: dict[str, Any], *,
+            prefer: str | None = "wait=60", **body: Any) -> httpx.Response:
+    """POST an execute request, ``{"inputs": inputs, **body}``, to the process named by its
+    full id (``"alignment.rigid"``, not ``"rigid"``).
+
+    ``body`` takes the other members of an execute request (``outputs=``, ``response=``);
+    ``prefer`` is the ``Prefer`` header, ``None`` for none at all (a long process then runs
+    as a job, any other one synchronously).
+
+    The body is written with :func:`json.dumps`, not httpx's ``json=`` (which refuses them):
+    a NaN or infinity goes out as the bare token ``NaN``, ``Infinity`` or ``-Infinity``, as
+    many clients write it, and the service reads those tokens so that its error can name the
+    row that holds one. Tests of non-finite inputs depend on that.
+    """
+    headers = {"Content-Type": "application/json"}
+    if prefer is not None:
+        headers["Prefer"] = prefer
+    return http.post(f"/processes/{process_id}/execution",
+                     content=json.dumps({"inputs": inputs, **body}), headers=headers)

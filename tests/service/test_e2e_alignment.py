@@ -4,11 +4,10 @@ mismatched counts, NaN/Inf, bad options) is a 422 problem+json naming the input.
 
 from __future__ import annotations
 
-import json
-from typing import Any
-
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -20,13 +19,6 @@ SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
 THREE_IN_A_ROW = [[0, 0], [1, 0], [2, 0], [0, 1]]
 LINE2 = [[0, 0], [1, 1], [2, 2], [3, 3]]
 SKEWED = [[-1, 0], [-1, 0], [2, 0], [0, 0.5], [0, 0.5], [0, -1]]
-
-
-def _post(http, process: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
-    # Python's json writes NaN/Infinity tokens; the service reads them to name the row.
-    return http.post(f"/processes/alignment.{process}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": "wait=30"})
 
 
 @pytest.mark.parametrize("process, inputs, expected", [
@@ -44,7 +36,7 @@ def _post(http, process: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
      [[0, -3, 1], [3, 0, 2], [0, 0, 1]]),
 ])
 def test_methods_solve_their_examples(http, process, inputs, expected) -> None:
-    r = _post(http, process, inputs)
+    r = execute(http, f"alignment.{process}", inputs, prefer="wait=30")
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["transform"], expected, atol=1e-9)
@@ -54,8 +46,9 @@ def test_methods_solve_their_examples(http, process, inputs, expected) -> None:
 
 def test_symmetric_and_weights_over_http(http) -> None:
     target = [[1, 0, 0], [3, 0, 0], [2, 1, 0], [1, 0, 3], [9, 9, 9]]
-    r = _post(http, "affine", {"source": [*CUBE, [1, 1, 1]], "target": target,
-                               "weights": [1, 1, 1, 1, 0], "symmetric": True})
+    r = execute(http, "alignment.affine", {"source": [*CUBE, [1, 1, 1]], "target": target,
+                                           "weights": [1, 1, 1, 1, 0], "symmetric": True},
+                prefer="wait=30")
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["linear"], [[2, 1, 0], [0, 1, 0], [0, 0, 3]], atol=1e-9)
@@ -99,7 +92,7 @@ def test_symmetric_and_weights_over_http(http) -> None:
     ("pca", {"source": [[NAN, 0], [1, 1], [2, 0]], "target": SKEWED}, "source", "row 0"),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, process, inputs, field, fragment) -> None:
-    r = _post(http, process, inputs)
+    r = execute(http, f"alignment.{process}", inputs, prefer="wait=30")
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

@@ -3,28 +3,18 @@ error as a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
 import warnings
 
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
 SRC = [[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]]
 DST = [[0.0, 0.2], [1.1, 0.0]]
 NAN, INF = float("nan"), float("inf")
-
-
-def _path(method: str) -> str:
-    return f"/processes/assignment.{method}/execution"
-
-
-def _post(http, method: str, inputs: dict):  # noqa: ANN001, ANN202
-    # Python's json writes NaN/Infinity tokens, as many clients do; the service reads them
-    # so that the error can name the row.
-    raw = json.dumps({"inputs": inputs})
-    return http.post(_path(method), content=raw, headers={"Content-Type": "application/json"})
 
 
 def _invalid(r) -> dict:  # noqa: ANN001
@@ -37,7 +27,8 @@ def _invalid(r) -> dict:  # noqa: ANN001
 
 # -- one run of each, results as documented ------------------------------------------------
 def test_closest_pair_over_http(http) -> None:
-    doc = _post(http, "closest_pair", {"source": SRC, "target": DST}).json()
+    doc = execute(http, "assignment.closest_pair", {"source": SRC, "target": DST},
+                  prefer=None).json()
     # hand: (1, 0)-(1.1, 0) at 0.1 beats (0, 0)-(0, 0.2) at 0.2
     assert (doc["source_index"], doc["target_index"]) == (1, 1)
     assert doc["pairs"] == [[1, 1]]
@@ -45,21 +36,24 @@ def test_closest_pair_over_http(http) -> None:
 
 
 def test_bipartite_over_http(http) -> None:
-    doc = _post(http, "bipartite", {"source": SRC, "target": DST}).json()
+    doc = execute(http, "assignment.bipartite", {"source": SRC, "target": DST}, prefer=None).json()
     assert doc["pairs"] == [[0, 0], [1, 1]] and doc["unmatched_source"] == [2]
     assert doc["cost"] == pytest.approx(0.3, rel=1e-12)
-    doc = _post(http, "bipartite", {"source": SRC, "target": DST, "max_cost": 0.15}).json()
+    doc = execute(http, "assignment.bipartite", {"source": SRC, "target": DST, "max_cost": 0.15},
+                  prefer=None).json()
     assert doc["pairs"] == [[1, 1]] and doc["n_pairs"] == 1
 
 
 def test_optimal_transport_over_http(http) -> None:
-    doc = _post(http, "optimal_transport", {"source": [[0.0], [1.0]], "target": [[0.0], [2.0]],
-                                            "source_weights": [3, 1]}).json()
+    doc = execute(http, "assignment.optimal_transport", {
+        "source": [[0.0], [1.0]], "target": [[0.0], [2.0]], "source_weights": [3, 1]},
+        prefer=None).json()
     assert doc["pairs"] == [[0, 0], [0, 1], [1, 1]] and doc["solver"] == "network_simplex"
     np.testing.assert_allclose(doc["masses"], [0.5, 0.25, 0.25], atol=1e-14)
     assert doc["cost"] == pytest.approx(1.25, rel=1e-12) and doc["converged"] is True
-    sk = _post(http, "optimal_transport", {"source": SRC, "target": DST, "method": "sinkhorn",
-                                           "reg": 0.1}).json()
+    sk = execute(http, "assignment.optimal_transport", {"source": SRC, "target": DST,
+                                                        "method": "sinkhorn", "reg": 0.1},
+                 prefer=None).json()
     assert sk["solver"] == "sinkhorn" and sk["converged"] is True
     assert sum(sk["masses"]) == pytest.approx(1.0, rel=1e-8)
 
@@ -67,15 +61,15 @@ def test_optimal_transport_over_http(http) -> None:
 def test_sinkhorn_not_converging_still_succeeds(http) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = _post(http, "optimal_transport", {"source": SRC, "target": DST,
-                                              "method": "sinkhorn", "reg": 0.01,
-                                              "max_iterations": 2})
+        r = execute(http, "assignment.optimal_transport", {"source": SRC, "target": DST,
+                                                           "method": "sinkhorn", "reg": 0.01,
+                                                           "max_iterations": 2}, prefer=None)
     assert r.status_code == 200, r.text
     assert r.json()["converged"] is False and r.json()["iterations"] == 2
 
 
 def test_distance_over_http(http) -> None:
-    doc = _post(http, "distance", {"source": SRC, "target": DST}).json()
+    doc = execute(http, "assignment.distance", {"source": SRC, "target": DST}, prefer=None).json()
     np.testing.assert_allclose(doc["forward_distances"], [0.2, 0.1, 1.9], rtol=1e-12)
     np.testing.assert_allclose(doc["backward_distances"], [0.2, 0.1], rtol=1e-12)
     assert doc["hausdorff"] == pytest.approx(1.9, rel=1e-12)
@@ -99,7 +93,7 @@ _COMMON = [  # (inputs, field, fragment of the message); every method takes thes
                                     "distance"])
 @pytest.mark.parametrize("inputs, field, fragment", _COMMON)
 def test_invalid_points_name_the_input(http, method, inputs, field, fragment) -> None:
-    body = _invalid(_post(http, method, inputs))
+    body = _invalid(execute(http, f"assignment.{method}", inputs, prefer=None))
     assert body["errors"][0]["input"] == field, body
     assert fragment in body["errors"][0]["message"], body
 
@@ -129,19 +123,21 @@ _BIG = [[float(i)] for i in range(4001)]  # 4,001 × 4,000 > 16 million pairs
     ("closest_pair", {"workers": 2}, "workers", "Extra inputs"),  # not offered over HTTP
 ])
 def test_invalid_options_name_the_input(http, method, extra, field, fragment) -> None:
-    body = _invalid(_post(http, method, {"source": SRC, "target": DST, **extra}))
+    body = _invalid(execute(http, f"assignment.{method}", {"source": SRC, "target": DST, **extra},
+                            prefer=None))
     assert body["errors"][0]["input"] == field, body
     assert fragment in body["errors"][0]["message"], body
 
 
 @pytest.mark.parametrize("method", ["bipartite", "optimal_transport"])
 def test_cost_matrix_too_large(http, method) -> None:
-    body = _invalid(_post(http, method, {"source": _BIG, "target": _BIG[:4000]}))
+    body = _invalid(execute(http, f"assignment.{method}", {"source": _BIG, "target": _BIG[:4000]},
+                            prefer=None))
     assert body["errors"][0]["input"] == "source"
     assert "at most 16,000,000 point pairs" in body["errors"][0]["message"]
 
 
 def test_reg_too_small_for_the_costs(http) -> None:
-    body = _invalid(_post(http, "optimal_transport", {
-        "source": [[0.0]], "target": [[1e100]], "method": "sinkhorn", "reg": 1e-300}))
+    body = _invalid(execute(http, "assignment.optimal_transport", {
+        "source": [[0.0]], "target": [[1e100]], "method": "sinkhorn", "reg": 1e-300}, prefer=None))
     assert body["errors"][0]["input"] == "reg"

@@ -12,6 +12,7 @@ import pytest
 
 from morphserve._models import BINARY_ABOVE, binary_array, to_json_value
 from service.binary import decode_arrays, owned
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -22,16 +23,13 @@ def b64(a: np.ndarray, dtype: str | None = None) -> dict:
             "data": base64.b64encode(a.tobytes()).decode()}
 
 
-def _post(http, process: str, inputs: dict):  # noqa: ANN001, ANN202
-    return http.post(f"/processes/{process}/execution", json={"inputs": inputs})
-
-
 def test_binary_and_list_inputs_give_the_same_answer(http) -> None:
     rng = np.random.default_rng(3)
     X = rng.normal(size=(1500, 3))
     Y = X @ np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]]).T + [1, 2, 3]
-    as_lists = _post(http, "alignment.rigid", {"source": X.tolist(), "target": Y.tolist()})
-    as_binary = _post(http, "alignment.rigid", {"source": b64(X), "target": b64(Y)})
+    as_lists = execute(http, "alignment.rigid", {"source": X.tolist(), "target": Y.tolist()},
+                       prefer=None)
+    as_binary = execute(http, "alignment.rigid", {"source": b64(X), "target": b64(Y)}, prefer=None)
     assert as_lists.status_code == as_binary.status_code == 200, as_binary.text
     assert as_binary.json()["transform"] == as_lists.json()["transform"]  # bit for bit
 
@@ -41,8 +39,8 @@ def test_values_arrive_bit_exact(http) -> None:
     rng = np.random.default_rng(5)
     pins = rng.normal(size=(3, 2)) * np.array([1e-300, 1e90])
     graph = {"nodes": 4, "edges": [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]]}
-    r = _post(http, "layout.laplacian", {"graph": graph, "pins": {
-        "indices": [0, 1, 2], "positions": b64(pins)}})
+    r = execute(http, "layout.laplacian", {"graph": graph, "pins": {
+        "indices": [0, 1, 2], "positions": b64(pins)}}, prefer=None)
     assert r.status_code == 200, r.text
     got = np.array(r.json()["positions"])[:3]
     assert got.tobytes() == pins.tobytes()
@@ -51,10 +49,11 @@ def test_values_arrive_bit_exact(http) -> None:
 def test_float32_and_int32_inputs_are_accepted(http) -> None:
     strip = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], dtype=np.float32)
     faces = np.array([[0, 1, 2], [1, 3, 2]], dtype=np.int32)
-    r = _post(http, "deformation.harmonic", {
+    r = execute(http, "deformation.harmonic", {
         "mesh": {"vertices": b64(strip), "faces": b64(faces)},
         "handles": {"indices": b64(np.array([0, 3], np.int64)),
-                    "positions": b64(np.array([[0, 0, 0], [1, 1, 1]], np.float32))}})
+                    "positions": b64(np.array([[0, 0, 0], [1, 1, 1]], np.float32))}},
+        prefer=None)
     assert r.status_code == 200, r.text
     out = np.array(r.json()["mesh"]["vertices"])
     np.testing.assert_array_equal(out[[0, 3]], [[0, 0, 0], [1, 1, 1]])
@@ -79,14 +78,14 @@ GOOD = b64(np.zeros((4, 3)))
     ({**GOOD, "shape": [1, 1]}, "longer base64 string"),
 ])
 def test_malformed_binary_arrays_name_the_input(http, bad: dict, fragment: str) -> None:
-    r = _post(http, "alignment.rigid", {"source": bad, "target": GOOD})
+    r = execute(http, "alignment.rigid", {"source": bad, "target": GOOD}, prefer=None)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()
     assert body["errors"][0]["input"] == "source" and fragment in body["detail"], body
-    nested = _post(http, "deformation.arap", {
+    nested = execute(http, "deformation.arap", {
         "mesh": {"vertices": bad, "faces": [[0, 1, 2]]},
-        "handles": {"indices": [0], "positions": [[0, 0, 0]]}})
+        "handles": {"indices": [0], "positions": [[0, 0, 0]]}}, prefer=None)
     assert nested.status_code == 422
     assert nested.json()["errors"][0]["input"] == "mesh.vertices", nested.json()
 
@@ -94,7 +93,7 @@ def test_malformed_binary_arrays_name_the_input(http, bad: dict, fragment: str) 
 def test_nan_in_a_binary_array_names_its_row(http) -> None:
     X = np.zeros((4, 3))
     X[2, 1] = np.nan
-    r = _post(http, "alignment.rigid", {"source": b64(X), "target": GOOD})
+    r = execute(http, "alignment.rigid", {"source": b64(X), "target": GOOD}, prefer=None)
     assert r.status_code == 422
     assert r.json()["errors"][0]["input"] == "source" and "row 2" in r.json()["detail"]
 
@@ -169,7 +168,7 @@ def test_large_json_bodies_are_kept_as_sent(spooling_server) -> None:  # noqa: A
         files = sorted((data / "inputs").iterdir())
         bad = X.copy()
         bad[7, 1] = np.nan
-        r = _post(c, "alignment.rigid", {"source": b64(bad), "target": b64(Y)})
+        r = execute(c, "alignment.rigid", {"source": b64(bad), "target": b64(Y)}, prefer=None)
         assert r.status_code == 422 and r.json()["errors"][0]["input"] == "source"
         assert sorted((data / "inputs").iterdir()) == files
 
@@ -209,6 +208,6 @@ def test_base64_with_escaped_slashes_is_read(http) -> None:
     r = http.post("/processes/alignment.rigid/execution",
                   content=body.replace("/", "\\/").encode(),
                   headers={"Content-Type": "application/json"})
-    plain = _post(http, "alignment.rigid", {"source": b64(X), "target": b64(Y)})
+    plain = execute(http, "alignment.rigid", {"source": b64(X), "target": b64(Y)}, prefer=None)
     assert r.status_code == plain.status_code == 200, r.text
     assert r.json() == plain.json()

@@ -4,11 +4,10 @@ neighbours, n_components too large) is a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
-from typing import Any
-
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -17,16 +16,10 @@ LABELS = ["a", "a", "a", "a", "b", "b", "b", "b"]
 POINTS = [[0, 0], [1, 0], [0, 1], [1, 1.5], [5, 5], [6, 5], [5, 6], [6.5, 6]]
 
 
-def _post(http, process: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
-    return http.post(f"/processes/{process}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": "wait=30"})
-
-
 def test_spectral_and_markov_find_two_groups(http) -> None:
     for process, extra in (("clustering.spectral", {"n_clusters": 2}),
                            ("clustering.markov", {})):
-        r = _post(http, process, {"points": GROUPS, "n_neighbors": 3, **extra})
+        r = execute(http, process, {"points": GROUPS, "n_neighbors": 3, **extra}, prefer="wait=30")
         assert r.status_code == 200, r.text
         doc = r.json()
         assert doc["labels"] == [0, 0, 0, 0, 1, 1, 1, 1] and doc["sizes"] == [4, 4]
@@ -37,15 +30,16 @@ def test_markov_recovers_a_planted_partition(http) -> None:
     y = np.repeat([0, 1, 2], 20)
     p = np.where(y[:, None] == y[None, :], 0.6, 0.02)
     edges = np.argwhere(np.triu(rng.random(p.shape) < p, 1)).tolist()
-    r = _post(http, "clustering.markov", {"graph": {"nodes": 60, "edges": edges}})
+    r = execute(http, "clustering.markov", {"graph": {"nodes": 60, "edges": edges}},
+                prefer="wait=30")
     assert r.status_code == 200, r.text
     assert r.json()["labels"] == y.tolist()
 
 
 def test_lda_and_nca_classify_queries(http) -> None:
     for process in ("classification.lda", "classification.nca"):
-        r = _post(http, process, {"points": POINTS, "labels": LABELS,
-                                  "query": [[0.5, 0.5], [5.5, 5.0]]})
+        r = execute(http, process, {"points": POINTS, "labels": LABELS,
+                                    "query": [[0.5, 0.5], [5.5, 5.0]]}, prefer="wait=30")
         assert r.status_code == 200, r.text
         doc = r.json()
         assert doc["query_predictions"] == ["a", "b"], process
@@ -75,7 +69,7 @@ def test_lda_and_nca_classify_queries(http) -> None:
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, process, inputs, field,
                                                  fragment) -> None:
-    r = _post(http, process, inputs)
+    r = execute(http, process, inputs, prefer="wait=30")
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

@@ -5,12 +5,13 @@ and options) is a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
 import time
 from typing import Any
 
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -27,13 +28,6 @@ METHODS = ("laplacian", "laplacian_editing", "arap", "harmonic", "biharmonic",
            "isotropic_scaling")
 
 
-def _post(http, method: str, inputs: dict[str, Any],  # noqa: ANN001, ANN202
-          prefer: str = "wait=60"):
-    return http.post(f"/processes/deformation.{method}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": prefer})
-
-
 def _ok(r) -> dict[str, Any]:  # noqa: ANN001
     assert r.status_code == 200, r.text
     doc = r.json()
@@ -46,7 +40,7 @@ def _ok(r) -> dict[str, Any]:  # noqa: ANN001
 # -- each method runs and returns the deformed mesh -------------------------------------------
 @pytest.mark.parametrize("method", METHODS)
 def test_each_method_lifts_the_strip(http, method) -> None:
-    doc = _ok(_post(http, method, {"mesh": STRIP, "handles": LIFT}))
+    doc = _ok(execute(http, f"deformation.{method}", {"mesh": STRIP, "handles": LIFT}))
     v = np.array(doc["mesh"]["vertices"])
     assert v.shape == (6, 3) and doc["mesh"]["faces"] == STRIP_F
     np.testing.assert_allclose(v[[0, 3, 2, 5]], LIFT["positions"], atol=1e-12)
@@ -59,23 +53,24 @@ def test_each_method_lifts_the_strip(http, method) -> None:
 
 @pytest.mark.parametrize("method", METHODS)
 def test_handles_at_rest_give_the_rest_shape(http, method) -> None:
-    doc = _ok(_post(http, method, {"mesh": STRIP, "handles": AT_REST}))
+    doc = _ok(execute(http, f"deformation.{method}", {"mesh": STRIP, "handles": AT_REST}))
     np.testing.assert_allclose(doc["mesh"]["vertices"], STRIP_V, atol=1e-12)
     assert abs(doc["energy"][-1]) < 1e-12
 
 
 def test_arap_options_over_http(http) -> None:
-    doc = _ok(_post(http, "arap", {"mesh": STRIP, "handles": LIFT, "energy": "spokes",
-                                   "max_iterations": 7, "tolerance": 0}))
+    doc = _ok(execute(http, "deformation.arap", {"mesh": STRIP, "handles": LIFT, "energy": "spokes",
+                                                 "max_iterations": 7, "tolerance": 0}))
     assert doc["iterations"] == 7 and len(doc["energy"]) == 7
     assert all(b <= a + 1e-12 for a, b in zip(doc["energy"], doc["energy"][1:]))
-    doc = _ok(_post(http, "arap", {"mesh": STRIP, "handles": LIFT, "similarity": True}))
+    doc = _ok(execute(http, "deformation.arap", {"mesh": STRIP, "handles": LIFT,
+                                                 "similarity": True}))
     assert doc["converged"] is True
 
 
 def test_arap_runs_as_a_job_with_progress(http) -> None:
-    r = _post(http, "arap", {"mesh": STRIP, "handles": LIFT, "max_iterations": 20,
-                             "tolerance": 0}, prefer="respond-async")
+    r = execute(http, "deformation.arap", {"mesh": STRIP, "handles": LIFT, "max_iterations": 20,
+                                           "tolerance": 0}, prefer="respond-async")
     assert r.status_code == 201, r.text
     job = r.headers["Location"]
     for _ in range(600):
@@ -93,7 +88,7 @@ def test_deformation_transfer_over_http(http) -> None:
     src = np.array(STRIP_V, float)
     rot = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])      # 90° about z
     target = {"vertices": (2 * src).tolist(), "faces": STRIP_F}
-    doc = _ok(_post(http, "deformation_transfer", {
+    doc = _ok(execute(http, "deformation.deformation_transfer", {
         "mesh": target, "handles": {"indices": [0], "positions": [[1, 1, 1]]},
         "source": STRIP_V, "source_deformed": (src @ rot.T).tolist()}))
     # a rotation of the source carries over to the (larger) target, about the handle
@@ -166,7 +161,7 @@ def test_every_deformation_method_is_listed(http) -> None:
                               "source_deformed": STRIP_V}, "source", "degenerate face"),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field, fragment) -> None:
-    r = _post(http, method, inputs)
+    r = execute(http, f"deformation.{method}", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

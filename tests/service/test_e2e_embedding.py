@@ -13,6 +13,7 @@ import pytest
 from sklearn.datasets import make_swiss_roll
 
 from algorithms import embedding
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -20,12 +21,6 @@ NAN = float("nan")
 ROLL = make_swiss_roll(60, random_state=0)[0]
 POINTS = ROLL.tolist()
 TWO_CLUMPS = np.r_[ROLL[:10] * 0.01, ROLL[:10] * 0.01 + 100].tolist()
-
-
-def _post(http, method: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
-    return http.post(f"/processes/embedding.{method}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": "wait=60"})
 
 
 @pytest.mark.parametrize("method, inputs", [
@@ -40,7 +35,7 @@ def _post(http, method: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
     ("lle", {"n_neighbors": 8}),
 ])
 def test_methods_agree_with_the_library(http, method: str, inputs: dict[str, Any]) -> None:
-    r = _post(http, method, {"points": POINTS, **inputs})
+    r = execute(http, f"embedding.{method}", {"points": POINTS, **inputs})
     assert r.status_code == 200, r.text
     doc = r.json()
     expected = getattr(embedding, method)(ROLL, **inputs)
@@ -66,7 +61,7 @@ def test_methods_agree_with_the_library(http, method: str, inputs: dict[str, Any
     ("random_projection", {"points": POINTS, "density": 0.5}, "density", "sparse"),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field, fragment) -> None:
-    r = _post(http, method, inputs)
+    r = execute(http, f"embedding.{method}", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()
@@ -76,7 +71,7 @@ def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field, fr
 
 @pytest.mark.parametrize("method", ["isomap", "laplacian_eigenmaps", "lle", "lpp"])
 def test_disconnected_graph_is_a_problem_naming_the_components(http, method: str) -> None:
-    r = _post(http, method, {"points": TWO_CLUMPS, "n_neighbors": 3})
+    r = execute(http, f"embedding.{method}", {"points": TWO_CLUMPS, "n_neighbors": 3})
     assert 400 <= r.status_code < 500, r.text
     body = r.json()
     assert r.headers["content-type"] == "application/problem+json"

@@ -5,26 +5,18 @@ input; both are listed with their outputs."""
 
 from __future__ import annotations
 
-import json
-from typing import Any
-
 import numpy as np
 import pytest
 from sklearn.datasets import make_blobs
 
 from algorithms.embedding import sne, tsne
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
 BLOBS = make_blobs(60, n_features=5, centers=3, random_state=0)[0]
 POINTS = BLOBS.tolist()
 FAST = {"perplexity": 8, "max_iterations": 120, "exaggeration_iterations": 50}
-
-
-def _post(http, method: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
-    return http.post(f"/processes/embedding.{method}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": "wait=60"})
 
 
 @pytest.mark.parametrize("method, function, inputs", [
@@ -34,7 +26,7 @@ def _post(http, method: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
     ("sne", sne, {}),
 ])
 def test_methods_agree_with_the_library(http, method, function, inputs) -> None:  # noqa: ANN001
-    r = _post(http, method, {"points": POINTS, **FAST, **inputs})
+    r = execute(http, f"embedding.{method}", {"points": POINTS, **FAST, **inputs})
     assert r.status_code == 200, r.text
     doc = r.json()
     expected = function(BLOBS, **FAST, **inputs)
@@ -58,7 +50,7 @@ def test_methods_agree_with_the_library(http, method, function, inputs) -> None:
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field,  # noqa: ANN001
                                                  fragment) -> None:
-    r = _post(http, method, inputs)
+    r = execute(http, f"embedding.{method}", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

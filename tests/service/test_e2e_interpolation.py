@@ -5,12 +5,13 @@ NaN, reflections) is a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
 import time
 from typing import Any
 
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -36,13 +37,6 @@ BENT = {"vertices": _bent(np.pi), "faces": STRIP_F}
 METHODS = ("affine", "rigid", "arap", "poisson")
 
 
-def _post(http, method: str, inputs: dict[str, Any],  # noqa: ANN001, ANN202
-          prefer: str = "wait=60"):
-    return http.post(f"/processes/interpolation.{method}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": prefer})
-
-
 def _ok(r) -> dict[str, Any]:  # noqa: ANN001
     assert r.status_code == 200, r.text
     doc = r.json()
@@ -52,7 +46,7 @@ def _ok(r) -> dict[str, Any]:  # noqa: ANN001
 
 @pytest.mark.parametrize("method", ["arap", "poisson"])
 def test_mesh_methods_bend_the_strip_keeping_its_lengths(http, method) -> None:
-    doc = _ok(_post(http, method, {"source": STRIP, "target": BENT}))
+    doc = _ok(execute(http, f"interpolation.{method}", {"source": STRIP, "target": BENT}))
     frames = np.array(doc["frames"])
     assert frames.shape == (11, 10, 2) and doc["faces"] == STRIP_F
     np.testing.assert_allclose(doc["times"], np.linspace(0, 1, 11), atol=1e-15)
@@ -63,8 +57,8 @@ def test_mesh_methods_bend_the_strip_keeping_its_lengths(http, method) -> None:
 
 @pytest.mark.parametrize("method", ["affine", "rigid"])
 def test_whole_shape_methods_turn_by_the_short_way(http, method) -> None:
-    doc = _ok(_post(http, method, {"source": SQUARE, "transform": QUARTER,
-                                   "times": [0, 0.5, 1]}))
+    doc = _ok(execute(http, f"interpolation.{method}", {"source": SQUARE, "transform": QUARTER,
+                                                       "times": [0, 0.5, 1]}))
     assert doc["angle"] == pytest.approx(np.pi / 2)
     frames = np.array(doc["frames"])
     np.testing.assert_allclose(frames[-1], np.array(SQUARE) @ np.array(QUARTER)[:2, :2].T
@@ -75,9 +69,9 @@ def test_whole_shape_methods_turn_by_the_short_way(http, method) -> None:
 
 
 def test_arap_runs_as_a_job_with_progress(http) -> None:
-    r = _post(http, "arap", {"source": STRIP, "target": BENT,
-                             "times": np.linspace(0, 1, 31).tolist()},
-              prefer="respond-async")
+    r = execute(http, "interpolation.arap", {"source": STRIP, "target": BENT,
+                                             "times": np.linspace(0, 1, 31).tolist()},
+                prefer="respond-async")
     assert r.status_code == 201, r.text
     job = r.headers["Location"]
     for _ in range(600):
@@ -127,7 +121,7 @@ def test_every_interpolation_method_is_listed(http) -> None:
      "source.faces", "below 10"),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field, fragment) -> None:
-    r = _post(http, method, inputs)
+    r = execute(http, f"interpolation.{method}", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

@@ -4,14 +4,12 @@ and every input error as a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
 import time
-from typing import Any
 
 import numpy as np
 import pytest
 
-from tests.live import wait_for_status
+from tests.live import execute, wait_for_status
 
 pytestmark = pytest.mark.e2e
 
@@ -24,21 +22,13 @@ TRIANGLE = [[0, 3, 4], [3, 0, 5], [4, 5, 0]]
 LINE = [[0, 1, 2], [1, 0, 1], [2, 1, 0]]
 
 
-def _post(http, method: str, inputs: dict[str, Any],  # noqa: ANN001, ANN202
-          prefer: str = "wait=60"):
-    # Python's json writes NaN/Infinity tokens; the service reads them to name the row.
-    return http.post(f"/processes/layout.{method}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": prefer})
-
-
 def _pairwise(x: np.ndarray) -> np.ndarray:
     return np.linalg.norm(x[:, None] - x[None], axis=-1)
 
 
 # -- one run of each -------------------------------------------------------------------------
 def test_tutte_layout_over_http(http) -> None:
-    r = _post(http, "laplacian", {"mesh": SQUARE, "weighting": "tangent"})
+    r = execute(http, "layout.laplacian", {"mesh": SQUARE, "weighting": "tangent"})
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["positions"], [[1, 0], [0, 1], [-1, 0], [0, -1], [0, 0]],
@@ -49,16 +39,16 @@ def test_tutte_layout_over_http(http) -> None:
 
 def test_graph_layout_with_pins_over_http(http) -> None:
     g = {**PATH, "weights": [1.0, 3.0]}
-    r = _post(http, "laplacian", {"graph": g, "pins": {"indices": [0, 2],
-                                                        "positions": [[0, 0], [4, 8]]}})
+    r = execute(http, "layout.laplacian", {"graph": g, "pins": {"indices": [0, 2],
+                                                                "positions": [[0, 0], [4, 8]]}})
     assert r.status_code == 200, r.text
     np.testing.assert_allclose(r.json()["positions"], [[0, 0], [3, 6], [4, 8]], atol=1e-14)
     assert r.json()["energy"] == pytest.approx(60.0, rel=1e-13)
 
 
 def test_poisson_over_http(http) -> None:
-    r = _post(http, "poisson", {"graph": PATH, "vectors": [[-1, 0], [-1, 0]], "anchors": PIN,
-                                "anchor_weights": [2.0]})
+    r = execute(http, "layout.poisson", {"graph": PATH, "vectors": [[-1, 0], [-1, 0]],
+                                         "anchors": PIN, "anchor_weights": [2.0]})
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["positions"], [[0, 0], [1, 0], [2, 0]], atol=1e-13)
@@ -66,7 +56,7 @@ def test_poisson_over_http(http) -> None:
 
 
 def test_mds_over_http_with_missing_distances(http) -> None:
-    r = _post(http, "mds", {"distances": TRIANGLE})
+    r = execute(http, "layout.mds", {"distances": TRIANGLE})
     assert r.status_code == 200, r.text
     np.testing.assert_allclose(_pairwise(np.array(r.json()["positions"])), TRIANGLE, atol=1e-12)
     # 30 points, about a fifth of the pairs unknown (null): completed
@@ -76,7 +66,7 @@ def test_mds_over_http_with_missing_distances(http) -> None:
     holes = np.triu(rng.random(full.shape) < 0.2, 1)
     d = [[None if (holes[i, j] or holes[j, i]) else float(full[i, j]) for j in range(30)]
          for i in range(30)]
-    r = _post(http, "mds", {"distances": d})
+    r = execute(http, "layout.mds", {"distances": d})
     assert r.status_code == 200, r.text
     doc = r.json()
     assert doc["missing_pairs"] == int(holes.sum()) and doc["converged"] is True
@@ -84,21 +74,21 @@ def test_mds_over_http_with_missing_distances(http) -> None:
     # the same as a list of known pairs
     pairs = [[i, j, float(full[i, j])] for i in range(30) for j in range(i + 1, 30)
              if not holes[i, j]]
-    r2 = _post(http, "mds", {"distance_pairs": pairs})
+    r2 = execute(http, "layout.mds", {"distance_pairs": pairs})
     assert r2.status_code == 200, r2.text
     np.testing.assert_allclose(r2.json()["positions"], doc["positions"], atol=1e-9)
 
 
 def test_stress_over_http(http) -> None:
-    r = _post(http, "stress", {"distances": LINE, "n_components": 1})
+    r = execute(http, "layout.stress", {"distances": LINE, "n_components": 1})
     assert r.status_code == 200, r.text
     doc = r.json()
     assert np.sort(np.ravel(doc["positions"])) == pytest.approx([-1, 0, 1], abs=1e-9)
     assert doc["stress"] < 1e-18 and doc["converged"] is True
     assert len(doc["stress_history"]) == doc["iterations"] + 1
     g = {"nodes": 9, "edges": [[i, i + 1] for i in range(8)]}
-    r = _post(http, "stress", {"graph": g, "weighting": "uniform", "init": "random",
-                               "seed": 1})
+    r = execute(http, "layout.stress", {"graph": g, "weighting": "uniform", "init": "random",
+                                        "seed": 1})
     assert r.status_code == 200, r.text
     hist = r.json()["stress_history"]
     assert all(b <= a * (1 + 1e-12) for a, b in zip(hist, hist[1:], strict=False))
@@ -108,9 +98,9 @@ def test_long_stress_reports_progress_and_is_dismissed(http) -> None:
     n = 40  # a 40×40 grid graph: 1,600 nodes, shortest paths computed by the worker
     edges = [[i * n + j, i * n + j + 1] for i in range(n) for j in range(n - 1)]
     edges += [[i * n + j, (i + 1) * n + j] for i in range(n - 1) for j in range(n)]
-    r = _post(http, "stress", {"graph": {"nodes": n * n, "edges": edges}, "init": "random",
-                               "max_iterations": 100000, "tolerance": 0.0},
-              prefer="respond-async")
+    r = execute(http, "layout.stress", {"graph": {"nodes": n * n, "edges": edges}, "init": "random",
+                                        "max_iterations": 100000, "tolerance": 0.0},
+                prefer="respond-async")
     assert r.status_code == 201, r.text
     job = r.json()["jobID"]
     wait_for_status(http, job, ("running",), timeout=60)
@@ -197,7 +187,7 @@ def test_every_layout_method_is_listed(http) -> None:
     ("stress", {"distances": [[0, "x"], ["x", 0]]}, "distances", ""),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field, fragment) -> None:
-    r = _post(http, method, inputs)
+    r = execute(http, f"layout.{method}", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

@@ -5,11 +5,10 @@ input."""
 
 from __future__ import annotations
 
-import json
-from typing import Any
-
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -26,12 +25,6 @@ _KEEP = ~np.isin(np.arange(len(_F)), [4, 13])   # the two triangles of the centr
 HOLED = {"vertices": _V.tolist(), "faces": _F[_KEEP].tolist()}
 
 
-def _post(http, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
-    return http.post("/processes/parameterization.abf/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": "wait=60"})
-
-
 def _angles(uv: np.ndarray, f: np.ndarray) -> np.ndarray:
     p = uv[f]
     out = np.empty(f.shape)
@@ -43,7 +36,7 @@ def _angles(uv: np.ndarray, f: np.ndarray) -> np.ndarray:
 
 
 def test_abf_flattens_the_curved_sheet(http) -> None:  # noqa: ANN001
-    r = _post(http, {"mesh": SHEET, "tolerance": 1e-10})
+    r = execute(http, "parameterization.abf", {"mesh": SHEET, "tolerance": 1e-10})
     assert r.status_code == 200, r.text
     doc = r.json()
     uv = np.array(doc["uv"])
@@ -61,7 +54,8 @@ def test_abf_flattens_the_curved_sheet(http) -> None:  # noqa: ANN001
 
 def test_abf_keeps_a_planar_sheet_up_to_a_similarity(http) -> None:  # noqa: ANN001
     flat = np.c_[_XS.ravel(), _YS.ravel()] + 0.2 * np.sin(np.arange(16.0))[:, None]
-    r = _post(http, {"mesh": {"vertices": flat.tolist(), "faces": SHEET["faces"]}})
+    r = execute(http, "parameterization.abf", {"mesh": {"vertices": flat.tolist(),
+                                                        "faces": SHEET["faces"]}})
     assert r.status_code == 200, r.text
     doc = r.json()
     uv = np.array(doc["uv"])
@@ -82,7 +76,7 @@ def test_abf_keeps_a_planar_sheet_up_to_a_similarity(http) -> None:  # noqa: ANN
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, inputs, field,  # noqa: ANN001
                                                  fragment) -> None:
-    r = _post(http, inputs)
+    r = execute(http, "parameterization.abf", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

@@ -6,12 +6,11 @@ symmetric Dirichlet energy at most libigl's SLIM from the same start, and bad in
 
 from __future__ import annotations
 
-import json
-from typing import Any
-
 import igl
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -29,12 +28,6 @@ TETRA = {"vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
          "faces": [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]}
 _KEEP = ~np.isin(np.arange(len(_F)), [10, 10 + (_N - 1) ** 2])   # one interior cell removed
 HOLED = {"vertices": _V.tolist(), "faces": _F[_KEEP].tolist()}
-
-
-def _post(http, method: str, inputs: dict[str, Any]):  # noqa: ANN001, ANN202
-    return http.post(f"/processes/parameterization.{method}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": "wait=60"})
 
 
 def _sander_l2(v: np.ndarray, f: np.ndarray, uv: np.ndarray) -> float:
@@ -66,13 +59,13 @@ def _sd(v: np.ndarray, f: np.ndarray, uv: np.ndarray) -> float:
 
 
 def test_stretch_minimizing_lowers_the_tutte_stretch(http) -> None:  # noqa: ANN001
-    r = _post(http, "stretch_minimizing", {"mesh": RUFFLE})
+    r = execute(http, "parameterization.stretch_minimizing", {"mesh": RUFFLE})
     assert r.status_code == 200, r.text
     doc = r.json()
     uv = np.array(doc["uv"])
     assert uv.shape == (_N * _N, 2) and np.isfinite(uv).all()
     assert doc["flipped_faces"] == 0 and doc["degenerate_faces"] == 0
-    t = _post(http, "tutte", {"mesh": RUFFLE, "weighting": "mean_value"})
+    t = execute(http, "parameterization.tutte", {"mesh": RUFFLE, "weighting": "mean_value"})
     assert t.status_code == 200, t.text
     start = _sander_l2(_V, _F, np.array(t.json()["uv"]))
     assert doc["stretch"][0] == pytest.approx(start, rel=1e-9)
@@ -83,10 +76,11 @@ def test_stretch_minimizing_lowers_the_tutte_stretch(http) -> None:  # noqa: ANN
 
 
 def test_bijective_has_no_flips_where_lscm_flips(http) -> None:  # noqa: ANN001
-    lscm = _post(http, "conformal", {"mesh": RUFFLE})
+    lscm = execute(http, "parameterization.conformal", {"mesh": RUFFLE})
     assert lscm.status_code == 200, lscm.text
     assert lscm.json()["flipped_faces"] > 0
-    r = _post(http, "bijective", {"mesh": RUFFLE, "max_iterations": 20, "tolerance": 0})
+    r = execute(http, "parameterization.bijective", {"mesh": RUFFLE, "max_iterations": 20,
+                                                     "tolerance": 0})
     assert r.status_code == 200, r.text
     doc = r.json()
     uv = np.array(doc["uv"])
@@ -119,7 +113,7 @@ def test_bijective_has_no_flips_where_lscm_flips(http) -> None:  # noqa: ANN001
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field,  # noqa: ANN001
                                                  fragment) -> None:
-    r = _post(http, method, inputs)
+    r = execute(http, f"parameterization.{method}", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

@@ -4,12 +4,11 @@ error, non-disk meshes included, as a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
-from typing import Any
-
 import igl
 import numpy as np
 import pytest
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -33,16 +32,9 @@ CASES = [
 ]
 
 
-def _post(http, method: str, inputs: dict[str, Any],  # noqa: ANN001, ANN202
-          prefer: str = "wait=60"):
-    return http.post(f"/processes/parameterization.{method}/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": prefer})
-
-
 @pytest.mark.parametrize("method, options", CASES)
 def test_each_method_flattens_the_sheet(http, method: str, options: dict) -> None:  # noqa: ANN001
-    r = _post(http, method, {"mesh": SHEET, **options})
+    r = execute(http, f"parameterization.{method}", {"mesh": SHEET, **options})
     assert r.status_code == 200, r.text
     doc = r.json()
     uv = np.array(doc["uv"])
@@ -58,7 +50,7 @@ def test_each_method_flattens_the_sheet(http, method: str, options: dict) -> Non
 
 def test_lscm_over_http_equals_igl(http) -> None:  # noqa: ANN001
     pins = {"indices": [0, 15], "positions": [[0, 0], [3, 3]]}
-    r = _post(http, "conformal", {"mesh": SHEET, "pins": pins})
+    r = execute(http, "parameterization.conformal", {"mesh": SHEET, "pins": pins})
     assert r.status_code == 200, r.text
     peer, _ = igl.lscm(_V, _F.astype(np.int64), np.array([0, 15]),
                        np.array(pins["positions"], dtype=float))
@@ -85,7 +77,7 @@ def test_lscm_over_http_equals_igl(http) -> None:  # noqa: ANN001
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, method, inputs, field,  # noqa: ANN001
                                                  fragment) -> None:
-    r = _post(http, method, inputs)
+    r = execute(http, f"parameterization.{method}", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

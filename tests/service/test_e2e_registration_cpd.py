@@ -5,13 +5,13 @@ error is a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
 import time
-from typing import Any
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -24,16 +24,10 @@ def _cloud(n: int = 200, seed: int = 0) -> np.ndarray:
     return rng.gamma(2.0, size=(n, 3)) * [1.0, 0.6, 0.3]   # skewed, no symmetry
 
 
-def _post(http, inputs: dict[str, Any], prefer: str = "wait=60"):  # noqa: ANN001, ANN202
-    return http.post("/processes/registration.cpd/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": prefer})
-
-
 def test_cpd_solves_its_example(http) -> None:
     desc = http.get("/processes/registration.cpd").json()
     example = {k: desc["inputs"][k]["schema"]["examples"][0] for k in ("source", "target")}
-    r = _post(http, example)
+    r = execute(http, "registration.cpd", example)
     assert r.status_code == 200, r.text
     doc = r.json()
     c, s = np.cos(np.radians(10.0)), np.sin(np.radians(10.0))
@@ -48,14 +42,14 @@ def test_cpd_models_over_http(http) -> None:
     src = _cloud()
     truth = Rotation.from_rotvec([0.1, 0.2, -0.1]).as_matrix()
     dst = src @ truth.T + [0.2, 0.0, 0.1]
-    r = _post(http, {"source": src.tolist(), "target": dst.tolist(), "scale": False,
-                     "w": 0.1})
+    r = execute(http, "registration.cpd", {"source": src.tolist(), "target": dst.tolist(),
+                                           "scale": False, "w": 0.1})
     assert r.status_code == 200, r.text
     doc = r.json()
     assert doc["scale"] == 1.0
     np.testing.assert_allclose(doc["rotation"], truth, atol=1e-6)
-    r = _post(http, {"source": src.tolist(), "target": dst.tolist(), "model": "nonrigid",
-                     "beta": 1.0, "alpha": 3.0})
+    r = execute(http, "registration.cpd", {"source": src.tolist(), "target": dst.tolist(),
+                                           "model": "nonrigid", "beta": 1.0, "alpha": 3.0})
     assert r.status_code == 200, r.text
     doc = r.json()
     assert doc["transform"] is None and doc["rotation"] is None and doc["scale"] is None
@@ -67,11 +61,9 @@ def test_cpd_models_over_http(http) -> None:
 def test_cpd_runs_as_a_job_with_progress(http) -> None:
     src = _cloud(300, 1)
     dst = src @ Rotation.from_rotvec([0, 0, 0.3]).as_matrix().T
-    r = http.post("/processes/registration.cpd/execution",
-                  content=json.dumps({"inputs": {"source": src.tolist(),
-                                                 "target": dst.tolist(),
-                                                 "max_iterations": 5, "tolerance": 0}}),
-                  headers={"Content-Type": "application/json"})  # no preference: long → async
+    r = execute(http, "registration.cpd", {"source": src.tolist(), "target": dst.tolist(),
+                                           "max_iterations": 5, "tolerance": 0},
+                prefer=None)  # no preference: long → async
     assert r.status_code == 201, r.text
     job = r.headers["Location"]
     for _ in range(600):
@@ -101,7 +93,7 @@ def test_cpd_runs_as_a_job_with_progress(http) -> None:
      "collinear"),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, inputs, field, fragment) -> None:
-    r = _post(http, inputs)
+    r = execute(http, "registration.cpd", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

@@ -5,10 +5,8 @@ input error is a 422 problem+json naming the input, down to the set (`sets[2]`).
 
 from __future__ import annotations
 
-import json
 import time
 import warnings
-from typing import Any
 
 import numpy as np
 import pytest
@@ -16,6 +14,7 @@ from scipy.spatial.transform import Rotation
 
 from algorithms.core import ConvergenceWarning
 from algorithms.registration import multiway
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -29,18 +28,12 @@ def _cloud(n: int = 300, seed: int = 0) -> np.ndarray:
     return rng.gamma(2.0, size=(n, 3)) * [1.0, 0.6, 0.3]   # skewed, no symmetry
 
 
-def _post(http, inputs: dict[str, Any], prefer: str = "wait=60"):  # noqa: ANN001, ANN202
-    return http.post("/processes/registration.multiway/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": prefer})
-
-
 def test_multiway_solves_its_example(http) -> None:
     # The example: an L of 5 points, the same turned by +90° and shifted by (5, 0), and the
     # same doubled and shifted by (0, 3). Similarity maps them back exactly.
     desc = http.get("/processes/registration.multiway").json()
     example = {"sets": desc["inputs"]["sets"]["schema"]["examples"][0], "model": "similarity"}
-    r = _post(http, example)
+    r = execute(http, "registration.multiway", example)
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["transforms"][1], [[0, 1, 0], [-1, 0, 5], [0, 0, 1]],
@@ -51,7 +44,7 @@ def test_multiway_solves_its_example(http) -> None:
     np.testing.assert_allclose(doc["mean_shape"], example["sets"][0], atol=1e-9)
     assert doc["converged"] is True and doc["edges"] == [] and doc["fitness"] == [1, 1, 1]
     # rigid cannot undo the doubling: a residual remains, set 0 stays the reference
-    r = _post(http, {"sets": example["sets"]})
+    r = execute(http, "registration.multiway", {"sets": example["sets"]})
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["transforms"][0], np.eye(3), atol=0)
@@ -63,7 +56,8 @@ def test_procrustes_over_http_matches_the_function(http) -> None:
     x = _cloud(40, 1)
     sets = [x @ Rotation.random(random_state=s).as_matrix().T + rng.normal(size=3)
             + 0.01 * rng.standard_normal(x.shape) for s in range(4)]
-    r = _post(http, {"sets": [s.tolist() for s in sets], "model": "similarity"})
+    r = execute(http, "registration.multiway", {"sets": [s.tolist() for s in sets],
+                                                "model": "similarity"})
     assert r.status_code == 200, r.text
     doc = r.json()
     direct = multiway(sets, model="similarity")
@@ -79,10 +73,9 @@ def test_pose_graph_runs_as_a_job_with_progress(http) -> None:
     truth = [np.eye(3)] + [Rotation.from_rotvec(rng.uniform(-0.08, 0.08, 3)).as_matrix()
                            for _ in range(2)]
     sets = [(x @ r)[rng.permutation(len(x))] for r in truth]   # set i = R_iᵀ x, shuffled
-    r = http.post("/processes/registration.multiway/execution",
-                  content=json.dumps({"inputs": {"sets": [s.tolist() for s in sets],
-                                                 "correspondences": False}}),
-                  headers={"Content-Type": "application/json"})  # no preference: async
+    r = execute(http, "registration.multiway", {"sets": [s.tolist() for s in sets],
+                                                "correspondences": False},
+                prefer=None)  # no preference: async
     assert r.status_code == 201, r.text
     job = r.headers["Location"]
     for _ in range(1200):
@@ -121,7 +114,7 @@ def test_pose_graph_runs_as_a_job_with_progress(http) -> None:
     ({"sets": "nope"}, "sets", "list"),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, inputs, field, fragment) -> None:
-    r = _post(http, inputs)
+    r = execute(http, "registration.multiway", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()

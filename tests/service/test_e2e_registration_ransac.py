@@ -5,13 +5,14 @@ with a reason, and every input error is a 422 problem+json naming the input."""
 
 from __future__ import annotations
 
-import json
 import time
 from typing import Any
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+
+from tests.live import execute
 
 pytestmark = pytest.mark.e2e
 
@@ -29,12 +30,6 @@ def _blob(n: int, seed: int) -> np.ndarray:
     return u * r[:, None] * [1.3, 1.0, 0.8]
 
 
-def _post(http, inputs: dict[str, Any], prefer: str = "wait=60"):  # noqa: ANN001, ANN202
-    return http.post("/processes/registration.ransac/execution",
-                     content=json.dumps({"inputs": inputs}),
-                     headers={"Content-Type": "application/json", "Prefer": prefer})
-
-
 def _angle(a: Any, b: np.ndarray) -> float:
     c = (np.trace(np.asarray(a) @ b.T) - 1.0) / 2.0
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
@@ -44,7 +39,7 @@ def test_ransac_solves_its_example(http) -> None:
     desc = http.get("/processes/registration.ransac").json()
     example = {k: desc["inputs"][k]["schema"]["examples"][0]
                for k in ("source", "target", "features", "max_correspondence_distance")}
-    r = _post(http, example)
+    r = execute(http, "registration.ransac", example)
     assert r.status_code == 200, r.text
     doc = r.json()
     c, s = np.cos(np.radians(120.0)), np.sin(np.radians(120.0))
@@ -59,9 +54,7 @@ def test_ransac_runs_as_a_job_with_progress_and_is_reproducible(http) -> None:
     dst = _blob(1500, 2) @ truth.T + [0.5, 0.2, -0.3]
     inputs = {"source": src.round(9).tolist(), "target": dst.round(9).tolist(),
               "voxel_size": 0.15, "seed": 3}
-    r = http.post("/processes/registration.ransac/execution",
-                  content=json.dumps({"inputs": inputs}),
-                  headers={"Content-Type": "application/json"})  # no preference: async
+    r = execute(http, "registration.ransac", inputs, prefer=None)  # no preference: async
     assert r.status_code == 201, r.text
     job = r.headers["Location"]
     for _ in range(1200):
@@ -73,7 +66,7 @@ def test_ransac_runs_as_a_job_with_progress_and_is_reproducible(http) -> None:
     assert status["progress"] == 100
     doc = http.get(f"{job}/results").json()
     assert _angle(doc["rotation"], truth) < 2.0 and doc["converged"] is True
-    again = _post(http, inputs)
+    again = execute(http, "registration.ransac", inputs)
     assert again.status_code == 200, again.text
     assert again.json()["transform"] == doc["transform"]
     assert again.json()["iterations"] == doc["iterations"]
@@ -81,8 +74,9 @@ def test_ransac_runs_as_a_job_with_progress_and_is_reproducible(http) -> None:
 
 def test_failure_is_reported_not_hidden(http) -> None:
     # a target three times larger: no rigid sample passes the edge-length check
-    r = _post(http, {"source": SIX, "target": (3 * np.array(SIX) + 10).tolist(),
-                     "features": "none", "max_iterations": 500})
+    r = execute(http, "registration.ransac", {"source": SIX,
+                                              "target": (3 * np.array(SIX) + 10).tolist(),
+                                              "features": "none", "max_iterations": 500})
     assert r.status_code == 200, r.text
     doc = r.json()
     assert doc["converged"] is False and "no hypothesis" in doc["reason"]
@@ -105,7 +99,7 @@ def test_failure_is_reported_not_hidden(http) -> None:
      "row 1"),
 ])
 def test_invalid_inputs_are_422_naming_the_input(http, inputs, field, fragment) -> None:
-    r = _post(http, inputs)
+    r = execute(http, "registration.ransac", inputs)
     assert r.status_code == 422, r.text
     assert r.headers["content-type"] == "application/problem+json"
     body = r.json()
