@@ -167,7 +167,7 @@ def test_reflections_only_when_allowed(d, mode):
 
 
 def test_oriented_reflection_fix_flips_the_smallest_axis():
-    # The seed: flip the eigenvector of the smallest eigenvalue. A mirror across the
+    # The fix flips the eigenvector of the smallest eigenvalue. A mirror across the
     # minor axis (y -> -y) keeps the major axis and reverses the minor one.
     y = SKEWED * [1, -1]
     res = pca(SKEWED, y, mode="oriented")

@@ -1,4 +1,4 @@
-"""Tests for alignment.principal_scaling: the seed's M = ỸX̃ᵀ, exactly when it equals the
+"""Tests for alignment.principal_scaling: the cross-covariance map M = ỸX̃ᵀ, exactly when it equals the
 least-squares affine map (whitened source) and when it does not (a larger residual)."""
 
 from __future__ import annotations

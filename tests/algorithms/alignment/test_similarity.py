@@ -1,4 +1,4 @@
-"""Tests for alignment.similarity: hand cases (the seed's trace vs Umeyama's), recovery
+"""Tests for alignment.similarity: hand cases (the plain trace vs Umeyama's), recovery
 invariants, the symmetric fit, agreement with scipy, trimesh and an independent Umeyama."""
 
 from __future__ import annotations
@@ -54,10 +54,10 @@ def test_hand_quarter_turn_double_and_shift():
     assert res.rmse < 1e-12 and res.reflection is False
 
 
-def test_hand_mirror_scale_uses_umeyamas_trace_not_the_seeds():
+def test_hand_mirror_scale_uses_umeyamas_trace_not_the_plain_one():
     # Diamond mirrored across the x-axis. Centroids 0; C = (1/4) Σ y xᵀ = diag(2, -1/2),
     # σx² = (4 + 1 + 4 + 1)/4 = 5/2. U Vᵀ = diag(1, -1) is a reflection, so R = I and
-    # tr(DΣ) = 2 - 1/2 = 3/2: s = (3/2)/(5/2) = 0.6 (Umeyama). The seed's tr(Σ)/σx² = 1.
+    # tr(DΣ) = 2 - 1/2 = 3/2: s = (3/2)/(5/2) = 0.6 (Umeyama). The plain tr(Σ)/σx² = 1.
     x = np.array([[2, 0], [0, 1], [-2, 0], [0, -1]], dtype=float)
     y = x * [1, -1]
     res = similarity(x, y)
@@ -65,7 +65,7 @@ def test_hand_mirror_scale_uses_umeyamas_trace_not_the_seeds():
     assert res.scale == pytest.approx(0.6, abs=1e-15)
     # Residuals 0.6 x - y: (-0.8, 0), (0, 1.6), (0.8, 0), (0, -1.6): mean square 6.4/4 = 1.6.
     assert res.rmse == pytest.approx(np.sqrt(1.6), abs=1e-14)
-    # The seed's scale (1.0, i.e. the rigid fit) has mean square 8/4 = 2: worse.
+    # The plain trace's scale (1.0, i.e. the rigid fit) has mean square 8/4 = 2: worse.
     assert rigid(x, y).rmse == pytest.approx(np.sqrt(2.0), abs=1e-14)
     kept = similarity(x, y, allow_reflection=True)
     assert kept.scale == pytest.approx(1.0) and kept.reflection is True and kept.rmse < 1e-15
@@ -132,9 +132,9 @@ def test_reflections_only_when_allowed(d):
         assert kept.scale == pytest.approx(1.5, rel=1e-12)
 
 
-def test_reflection_fix_beats_the_seeds_scale():
+def test_reflection_fix_beats_the_plain_traces_scale():
     # Whenever the fix applies, tr(DΣ)/σx² gives a smaller residual than tr(Σ)/σx² with the
-    # same rotation (the seed's formula); where it does not apply they agree.
+    # same rotation (the plain-trace formula); where it does not apply they agree.
     fixed = 0
     for seed in SEEDS:
         rng = np.random.default_rng(seed)
@@ -265,7 +265,7 @@ def test_agrees_with_trimesh_on_exact_data_and_beats_it_on_noisy():
         y = 2.0 * x @ Rotation.random(random_state=rng).as_matrix().T + 1.0
         matrix, _, _ = registration.procrustes(x, y, reflection=False, scale=True)
         np.testing.assert_allclose(similarity(x, y).transform, matrix, atol=1e-10)
-        # trimesh's scale is |Ỹ|/|X̃| (the seed's "≈"): not least squares once noisy
+        # trimesh's scale is |Ỹ|/|X̃| (the shortcut): not least squares once noisy
         noisy = y + rng.standard_normal((15, 3)) * 0.5
         matrix, _, cost = registration.procrustes(x, noisy, reflection=False, scale=True,
                                                   return_cost=True)
