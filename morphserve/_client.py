@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from importlib.metadata import PackageNotFoundError, version
 from types import TracebackType
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, TypeVar, cast
 from urllib.parse import quote, unquote
 
 import httpx
@@ -148,14 +148,16 @@ class _Pieces(httpx.SyncByteStream, httpx.AsyncByteStream):
             return
         view = memoryview(chunk)
         for start in range(0, len(view), PIECE_BYTES):
+            # a view, not bytes as httpx's stream types say: httpcore writes any buffer
             yield view[start:start + PIECE_BYTES]  # type: ignore[misc]
 
     def __iter__(self) -> Iterator[bytes]:
-        for chunk in self._stream:  # type: ignore[union-attr]
+        # iterated synchronously by a sync client, whose request stream is a sync one
+        for chunk in cast(httpx.SyncByteStream, self._stream):
             yield from self._split(chunk)
 
     async def __aiter__(self) -> AsyncIterator[bytes]:
-        async for chunk in self._stream:  # type: ignore[union-attr]
+        async for chunk in cast(httpx.AsyncByteStream, self._stream):
             for piece in self._split(chunk):
                 yield piece
 
@@ -230,7 +232,7 @@ class _Protocol:
             headers["Content-Type"] = "application/json"
             request = self._build_request("POST", url, content=dumps(body), headers=headers,
                                           **extra)
-        request.stream = _Pieces(request.stream)  # type: ignore[assignment]
+        request.stream = _Pieces(request.stream)
         response = yield request
         document = _document(response)
         if response.status_code == 200:  # done within the wait: the results document
@@ -288,7 +290,7 @@ class _Protocol:
         if output is not None:
             url += f"/{quote(output, safe='')}"
         media = {"glb": "model/gltf-binary", "npy": "application/x-npy"}[fmt]
-        response = yield self._get(url, headers={"Accept": media})
+        response: httpx.Response = yield self._get(url, headers={"Accept": media})
         if response.status_code >= 400:
             _document(response)  # raises the problem
         return response.content

@@ -186,7 +186,8 @@ class Results(Mapping[str, Any]):
     def to_json(self) -> dict[str, Any]:
         """The results as plain JSON values: arrays as nested lists (``raw`` keeps what the
         service sent, typed binary arrays included)."""
-        return _plain(self._values)
+        plain: dict[str, Any] = _plain(self._values)
+        return plain
 
     def save(self, path: str | os.PathLike[str], output: str | None = None) -> Path:
         """Write the results to a file, in the format its suffix names.
@@ -205,12 +206,12 @@ class Results(Mapping[str, Any]):
         if suffix == ".json":
             target.write_text(json.dumps(self.to_json()) + "\n")
             return target
-        if suffix == ".npy" and output is None:
-            arrays = [k for k, v in self._values.items() if isinstance(v, np.ndarray)]
-            if len(arrays) != 1:
-                raise ValueError(f"Name the output to save as .npy: one of {arrays}.")
-            output = arrays[0]
         if suffix == ".npy":
+            if output is None:
+                arrays = [k for k, v in self._values.items() if isinstance(v, np.ndarray)]
+                if len(arrays) != 1:
+                    raise ValueError(f"Name the output to save as .npy: one of {arrays}.")
+                output = arrays[0]
             buf = io.BytesIO()
             np.save(buf, np.asarray(self[output]), allow_pickle=False)
             target.write_bytes(buf.getvalue())
@@ -241,12 +242,15 @@ class Results(Mapping[str, Any]):
             vertices = _as_3d(np.asarray(value["vertices"], dtype=np.float64))
             mesh = trimesh.Trimesh(vertices, np.asarray(value["faces"]), process=False)
             if "uv" in self._values and len(self["uv"]) == len(vertices):
-                mesh.visual = trimesh.visual.TextureVisuals(uv=np.asarray(self["uv"]))
+                # trimesh does not annotate this constructor
+                mesh.visual = trimesh.visual.TextureVisuals(  # type: ignore[no-untyped-call]
+                    uv=np.asarray(self["uv"]))
             return mesh
         array = np.asarray(value, dtype=np.float64)
         if array.ndim != 2 or array.shape[1] not in (2, 3):
             raise ValueError(f"The output {name!r} is not a mesh or (n, 2|3) points.")
-        return trimesh.PointCloud(_as_3d(array))
+        # trimesh does not annotate this constructor
+        return trimesh.PointCloud(_as_3d(array))  # type: ignore[no-untyped-call]
 
     @property
     def raw(self) -> dict[str, Any]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -227,7 +228,7 @@ def _symmetric_fit(
     a = start
     f = moments.objective(a)
     for iteration in range(1, MAX_NEWTON + 1):
-        b = np.linalg.inv(a)
+        b = cast(FloatArray, np.linalg.inv(a))  # float64 in (the stubs say any floating)
         g = moments.gradient(a, b).ravel()
         h = moments.hessian(b)
         step, f_new = _damped_step(moments, a, f, g, h)
@@ -257,12 +258,12 @@ class _Moments:
         inverse = np.vdot(b @ self.syy, b) - 2.0 * np.vdot(b, self.syx.T) + np.trace(self.sxx)
         return float(forward + inverse)
 
-    def gradient(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    def gradient(self, a: FloatArray, b: FloatArray) -> FloatArray:
         # d/dA of the inverse part: -Bᵀ G Bᵀ with G = 2 (B Syy - Sxy), from dB = -B dA B.
         g_b = 2.0 * (b @ self.syy - self.syx.T)
         return 2.0 * (a @ self.sxx - self.syx) - b.T @ g_b @ b.T
 
-    def hessian(self, b: np.ndarray) -> FloatArray:
+    def hessian(self, b: FloatArray) -> FloatArray:
         """The ``d² × d²`` Hessian, column ``(k, l)`` the derivative along ``E = e_k e_lᵀ``."""
         d = b.shape[0]
         g_b = 2.0 * (b @ self.syy - self.syx.T)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -181,8 +182,10 @@ def homography(
     p = _scaled(p)
 
     forward = _transfer(p, pairs.source, pairs.target, pairs, "source")
-    backward = (_transfer(np.linalg.inv(p), pairs.target, pairs.source, pairs, "target")
-                if symmetric else None)
+    backward: FloatArray | None = None
+    if symmetric:  # inv of float64 is float64 (its stubs say any floating)
+        inverse = cast(FloatArray, np.linalg.inv(p))
+        backward = _transfer(inverse, pairs.target, pairs.source, pairs, "target")
     return HomographyResult(
         transform=p,
         linear=p[:d, :d].copy(),
@@ -242,7 +245,7 @@ def _position_error(
 
 def _scaled(p: FloatArray) -> FloatArray:
     """``P / P[d, d]``, or ``P / ±|P|_F`` when that entry vanishes (see ``transform``)."""
-    corner = p[-1, -1]
+    corner: np.float64 = p[-1, -1]
     norm = float(np.linalg.norm(p))
     if abs(corner) > RANK_RTOL * norm:
         return p / corner
@@ -251,7 +254,7 @@ def _scaled(p: FloatArray) -> FloatArray:
 
 
 def _transfer(
-    p: np.ndarray, frm: FloatArray, to: FloatArray, pairs: Pairs, name: str
+    p: FloatArray, frm: FloatArray, to: FloatArray, pairs: Pairs, name: str
 ) -> FloatArray:
     """``dehom(P [x; 1]) - y`` for every pair; zero for pairs of weight zero."""
     d = frm.shape[1]

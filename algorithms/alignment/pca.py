@@ -5,7 +5,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Literal, get_args
+from typing import Literal, cast, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -13,7 +13,7 @@ from scipy.spatial import cKDTree
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, numerical_rank
 from algorithms.core.pairs import flat_error
 from algorithms.core.params import PointsLike, validate_params
-from algorithms.core.types import FloatArray
+from algorithms.core.types import FloatArray, KnnQuery
 from algorithms.core.validation import as_points, same_dim
 
 __all__ = ["PCAResult", "pca", "MODES", "CHOICES", "SCALES"]
@@ -250,11 +250,11 @@ def pca(
     translation = y_mean - linear @ x_mean
     moved = xc @ linear.T + y_mean  # = A x + t, from centred data
 
-    forward, _ = tree.query(moved)
+    forward, _ = cast(KnnQuery, tree.query(moved))
     mean_sq = float(forward @ forward) / len(forward)
     if symmetric:
         back = np.linalg.solve(linear, yc.T).T + x_mean
-        inverse, _ = cKDTree(src).query(back)
+        inverse, _ = cast(KnnQuery, cKDTree(src).query(back))
         mean_sq = 0.5 * (mean_sq + float(inverse @ inverse) / len(inverse))
     return PCAResult(
         transform=homogeneous(linear, translation),
@@ -303,6 +303,6 @@ def _sign_choices(d: int, det_pair: float, reflect_ok: bool) -> list[FloatArray]
 
 def _chamfer(moved: FloatArray, target: FloatArray, target_tree: cKDTree) -> float:
     """The Chamfer distance: nearest-point distances summed both ways."""
-    forward, _ = target_tree.query(moved)
-    backward, _ = cKDTree(moved).query(target)
+    forward, _ = cast(KnnQuery, target_tree.query(moved))
+    backward, _ = cast(KnnQuery, cKDTree(moved).query(target))
     return float(forward.sum() + backward.sum())

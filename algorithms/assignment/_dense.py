@@ -45,7 +45,7 @@ def check_cost_size(n: int, m: int, *, names: tuple[str, str] = ("source", "targ
     )
 
 
-def cost_matrix(source: FloatArray, target: FloatArray, metric: str) -> FloatArray:
+def cost_matrix(source: FloatArray, target: FloatArray, metric: Metric) -> FloatArray:
     """The ``(n, m)`` matrix of ``metric`` between every source and every target point."""
     return np.ascontiguousarray(cdist(source, target, metric), dtype=np.float64)
 
@@ -56,4 +56,5 @@ def pair_distances(source: FloatArray, target: FloatArray, i: np.ndarray, j: np.
     if i.size == 0:
         return np.zeros(0, dtype=np.float64)
     diff = source[i] - target[j]
-    return np.sqrt(np.einsum("ij,ij->i", diff, diff))
+    squared: FloatArray = np.einsum("ij,ij->i", diff, diff)
+    return np.sqrt(squared)

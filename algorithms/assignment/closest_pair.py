@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from algorithms.assignment.nearest import SERIAL_BELOW, Workers, check_workers
 from algorithms.core.params import PointsLike, validate_params
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_points, same_dim
 
 __all__ = ["ClosestPairResult", "closest_pair"]
@@ -108,7 +109,7 @@ def closest_pair(source: PointsLike, target: PointsLike, *, workers: Workers = -
     tree_points, query_points = (src, dst) if tree_is_source else (dst, src)
     if workers == -1 and query_points.shape[0] < SERIAL_BELOW:
         workers = 1
-    dist, idx = cKDTree(tree_points).query(query_points, k=1, workers=workers)
+    dist, idx = cast(KnnQuery, cKDTree(tree_points).query(query_points, k=1, workers=workers))
     q = int(np.argmin(dist))
     t = int(idx[q])
     i, j = (t, q) if tree_is_source else (q, t)

@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated, Literal, get_args
+from typing import Annotated, Literal, cast, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.params import Ge, Gt, PointsLike, validate_params
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_int, as_points, same_dim
 
 __all__ = ["NearestResult", "nearest", "Direction", "DIRECTIONS", "Workers", "check_workers"]
@@ -215,25 +215,25 @@ def _query(
     if workers == -1 and query_points.shape[0] < SERIAL_BELOW:
         workers = 1
     if bound is None:
-        dist, idx = tree.query(query_points, k=k, workers=workers)
+        dist, idx = cast(KnnQuery, tree.query(query_points, k=k, workers=workers))
     else:
         # The tree's own cut-off compares rounded squared distances; search a hair wider
         # and cut on the returned distances so that "<= max_distance" holds exactly.
-        dist, idx = tree.query(
+        dist, idx = cast(KnnQuery, tree.query(
             query_points, k=k, distance_upper_bound=bound * (1.0 + 1e-9), workers=workers
-        )
+        ))
     n_q = query_points.shape[0]
     q = np.arange(n_q, dtype=np.int64)
     if k > 1:
         q = np.repeat(q, k)
         dist = dist.ravel()
         idx = idx.ravel()
-    idx = idx.astype(np.int64, copy=False)
+    t = idx.astype(np.int64, copy=False)
     if bound is not None:
         keep = dist <= bound
         if not keep.all():
-            q, idx, dist = q[keep], idx[keep], dist[keep]
-    return q, idx, np.ascontiguousarray(dist, dtype=np.float64)
+            q, t, dist = q[keep], t[keep], dist[keep]
+    return q, t, np.ascontiguousarray(dist, dtype=np.float64)
 
 
 def _result(s: IntArray, t: IntArray, dist: FloatArray) -> NearestResult:

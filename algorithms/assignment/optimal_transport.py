@@ -20,7 +20,7 @@ from algorithms.assignment._dense import (
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.params import Ge, Gt, PointsLike, WeightsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, IntpArray
 from algorithms.core.validation import as_points, as_weights, same_dim
 
 __all__ = [
@@ -367,8 +367,9 @@ def _masses(w: FloatArray | None, n: int) -> FloatArray:
     """Weights (already checked) normalised to sum to 1; uniform when ``None``."""
     if w is None:
         return np.full(n, 1.0 / n)
-    w = w / w.max()  # no overflow in the sum of huge weights
-    return w / w.sum()
+    scaled: FloatArray = w / w.max()  # no overflow in the sum of huge weights
+    total: float = scaled.sum()
+    return scaled / total
 
 
 def _marginal_error(rows: np.ndarray, cols: np.ndarray, mass: FloatArray,
@@ -382,7 +383,7 @@ def _marginal_error(rows: np.ndarray, cols: np.ndarray, mass: FloatArray,
 
 
 def _exact_network_simplex(cost: FloatArray, a: FloatArray, b: FloatArray
-                           ) -> tuple[IntArray, IntArray, FloatArray, int]:
+                           ) -> tuple[IntpArray, IntpArray, FloatArray, int]:
     """Exact transport by POT's network simplex; returns (rows, cols, masses, 0)."""
     # Imported on first use: `import ot` costs about a second (it imports its optional
     # backends), which processes that never transport should not pay.
@@ -403,7 +404,8 @@ def _exact_network_simplex(cost: FloatArray, a: FloatArray, b: FloatArray
 
 
 def _sinkhorn(cost: FloatArray, a: FloatArray, b: FloatArray, reg: float,
-              max_iterations: int, tolerance: float, report: Progress):  # noqa: ANN202
+              max_iterations: int, tolerance: float, report: Progress
+              ) -> tuple[IntpArray, IntpArray, FloatArray, float, float, int, bool]:
     """Log-domain Sinkhorn; returns (rows, cols, masses, cost, marginal error, iterations,
     converged) with the plan already cut to its significant entries. Overwrites ``cost``."""
     n, m = cost.shape
@@ -413,19 +415,21 @@ def _sinkhorn(cost: FloatArray, a: FloatArray, b: FloatArray, reg: float,
 
     def lse_rows(g: FloatArray) -> FloatArray:  # LSE_j (g_j - scaled_ij)
         np.subtract(g[None, :], scaled, out=buf)
-        top = buf.max(axis=1)
+        top: FloatArray = buf.max(axis=1)
         np.subtract(buf, top[:, None], out=buf)
         np.maximum(buf, _EXP_FLOOR, out=buf)
         np.exp(buf, out=buf)
-        return top + np.log(buf.sum(axis=1))
+        sums: FloatArray = buf.sum(axis=1)
+        return top + np.log(sums)
 
     def lse_cols(f: FloatArray) -> FloatArray:  # LSE_i (f_i - scaled_ij)
         np.subtract(f[:, None], scaled, out=buf)
-        top = buf.max(axis=0)
+        top: FloatArray = buf.max(axis=0)
         np.subtract(buf, top[None, :], out=buf)
         np.maximum(buf, _EXP_FLOOR, out=buf)
         np.exp(buf, out=buf)
-        return top + np.log(buf.sum(axis=0))
+        sums: FloatArray = buf.sum(axis=0)
+        return top + np.log(sums)
 
     f = np.zeros(n)
     g = np.zeros(m)

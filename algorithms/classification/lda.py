@@ -12,7 +12,7 @@ import scipy.linalg as la
 from algorithms.classification._common import as_labels
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.params import Ge, LabelsLike, PointsLike, validate_params
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntpArray
 from algorithms.core.validation import as_int, as_points, same_dim
 from algorithms.embedding import trustworthiness
 
@@ -203,9 +203,10 @@ def lda(
     nu = (means - xbar) @ full                             # whitened class means
     log_priors = np.log(priors)
 
-    def classify(z: FloatArray) -> IntArray:
+    def classify(z: FloatArray) -> IntpArray:
         score = z @ nu.T - 0.5 * np.einsum("ij,ij->i", nu, nu)[None, :] + log_priors
-        return np.argmax(score, axis=1)
+        best: IntpArray = np.argmax(score, axis=1)
+        return best
 
     pred = classify((x - xbar) @ full)
     if q is not None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import typing
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, cast
 
 import numpy as np
 import scipy.linalg as la
@@ -15,7 +15,7 @@ from algorithms.classification._common import as_labels, fix_signs
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
 from algorithms.core.params import Ge, LabelsLike, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.types import FloatArray, IntArray, RngLike
+from algorithms.core.types import FloatArray, IntArray, IntpArray, KnnQuery, RngLike
 from algorithms.core.validation import as_int, as_points, same_dim
 from algorithms.embedding import trustworthiness
 
@@ -204,7 +204,7 @@ def nca(
         state["f"] = f
         return -f, -grad.ravel()
 
-    def callback(flat: FloatArray) -> None:
+    def callback(xk: FloatArray) -> None:  # `xk`: the name in scipy's callback protocol
         state["it"] += 1
         report(state["it"], iters, f"objective {state['f']:.6g} of {n}")
 
@@ -268,13 +268,13 @@ def _initial(x: FloatArray, y: IntArray, k: int, c: int, init: str, seed: RngLik
         return _initial(x, y, k, c, "pca" if k < d else "identity", seed)
 
 
-def _nearest(a: FloatArray, b: FloatArray, *, exclude_self: bool) -> IntArray:
+def _nearest(a: FloatArray, b: FloatArray, *, exclude_self: bool) -> IntpArray:
     from scipy.spatial import cKDTree
 
     tree = cKDTree(b)
     if exclude_self:
-        _, idx = tree.query(a, k=2)
+        _, idx = cast(KnnQuery, tree.query(a, k=2))
         own = idx[:, 0] == np.arange(a.shape[0])
         return np.where(own, idx[:, 1], idx[:, 0])
-    _, idx = tree.query(a, k=1)
+    _, idx = cast(KnnQuery, tree.query(a, k=1))
     return np.asarray(idx)

@@ -26,7 +26,7 @@ class KMeansFit:
 
 
 def _sq_dist(x: FloatArray, c: FloatArray, x_sq: FloatArray) -> FloatArray:
-    d = x_sq[:, None] - 2.0 * (x @ c.T) + np.einsum("ij,ij->i", c, c)[None, :]
+    d: FloatArray = x_sq[:, None] - 2.0 * (x @ c.T) + np.einsum("ij,ij->i", c, c)[None, :]
     return np.maximum(d, 0.0, out=d)
 
 

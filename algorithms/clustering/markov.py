@@ -15,7 +15,7 @@ from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.graphs import GraphWeighting, Neighbors, as_graph, edge_graph, neighbour_graph
 from algorithms.core.params import Ge, GraphLike, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.types import IntArray
+from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_points
 
 __all__ = ["MarkovClusteringResult", "markov"]
@@ -230,10 +230,11 @@ def _adjacency(points: Any, graph: Any, **kw: Any) -> sp.csr_array:
 
 
 def _normalise(m: sp.sparray) -> sp.csc_array:
-    m = sp.csc_array(m, dtype=np.float64)
-    s = np.asarray(m.sum(axis=0)).ravel()
+    a = sp.csc_array(m, dtype=np.float64)
+    s: FloatArray = np.asarray(a.sum(axis=0)).ravel()
     inv = np.divide(1.0, s, out=np.zeros_like(s), where=s > 0)
-    return (m @ sp.diags_array(inv)).tocsc()
+    normalised: sp.csc_array = (a @ sp.diags_array(inv)).tocsc()
+    return normalised
 
 
 def _inflate(m: sp.csc_array, r: float, prune: float) -> sp.csc_array:

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import sys
 import warnings
+from collections.abc import Callable
 
 __all__ = [
     "GeometryError",
@@ -54,7 +55,9 @@ class GeometryError(Exception):
         self.message = message
         self.field = field
 
-    def __reduce__(self):  # keep `field` when pickled across processes (Dask workers)
+    def __reduce__(  # keep `field` when pickled across processes (Dask workers)
+        self,
+    ) -> tuple[Callable[..., GeometryError], tuple[type[GeometryError], str, str | None]]:
         return (_rebuild, (type(self), self.message, self.field))
 
 

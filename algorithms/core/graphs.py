@@ -36,7 +36,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist, squareform
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import (
     as_choice,
     as_float,
@@ -150,7 +150,7 @@ def as_graph(graph: Any, *, name: str = "graph", max_nodes: int | None = None,
         raise InvalidInputError(
             f"Expected `{ename}` to join two distinct nodes per edge, got {e[row].tolist()} "
             f"at row {row}.", field=ename)
-    w = None
+    w: FloatArray | None = None
     if weights is not None:
         try:
             wshape = np.shape(weights)
@@ -164,7 +164,8 @@ def as_graph(graph: Any, *, name: str = "graph", max_nodes: int | None = None,
             w = np.zeros(0)
         else:
             w = as_weights(weights, e.shape[0], name=wname)
-        if positive_weights and (w <= 0).any():
+        # w is an array here: as_weights returns None only for weights=None
+        if positive_weights and w is not None and (w <= 0).any():
             row = int(np.argmax(w <= 0))
             raise InvalidInputError(
                 f"Expected `{wname}` to be positive (edge lengths), got {float(w[row])!r} at "
@@ -294,7 +295,7 @@ def knn_graph(points: Any, k: int, *, mode: Literal["union", "mutual"] = "union"
     k = as_int(k, name="k", minimum=1, maximum=n - 1, reason=f"the number of `{name}` minus one")
     as_choice(mode, ("union", "mutual"), name="mode")
     tree = cKDTree(x)
-    dist, idx = tree.query(x, k=k + 1)
+    dist, idx = typing.cast(KnnQuery, tree.query(x, k=k + 1))
     dist, idx = dist.reshape(n, k + 1), idx.reshape(n, k + 1)
     own = idx == np.arange(n)[:, None]
     # drop each point itself; where coincident points hid it beyond k + 1, drop the last
@@ -568,4 +569,5 @@ def neighbour_graph(points: Any, *, neighbors: str, n_neighbors: Any = None,
         check_connected(g, neighbors=neighbors, method=connected)
     if weighting is None:
         return g
-    return weight(g, weighting, sigma=sigma, name=name)  # type: ignore[arg-type]
+    # checked against WEIGHTINGS above (as_choice returns it as a plain str)
+    return weight(g, typing.cast(GraphWeighting, weighting), sigma=sigma, name=name)

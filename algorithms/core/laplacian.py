@@ -32,10 +32,10 @@ For a triangle with corners :math:`i, j, k`, the edge :math:`(i, j)` opposite co
 
 Notes
 -----
-The seed document derives both weights from triangle areas and writes
+Derived from triangle areas, the weights come out as
 :math:`w_{ij} = \tfrac14\cot\theta^+ + \tfrac14\cot\theta^-` and
-:math:`w_{ij} = \tfrac12 T^+ + \tfrac12 T^-` (:math:`T` the tangent fraction above), which is
-ALGORITHMS.md §4's wording too. We use twice those values, the Dirichlet-energy
+:math:`w_{ij} = \tfrac12 T^+ + \tfrac12 T^-` (:math:`T` the tangent fraction above). We use
+twice those values, the Dirichlet-energy
 normalisation of libigl (:math:`\tfrac12\cot`), so that the cotangent Laplacian equals
 ``-igl.cotmatrix`` exactly and the two weightings agree on equilateral triangles (where
 incentre and circumcentre coincide: :math:`\tfrac12\cot 60° = \tfrac12\tan 30°`). A common
@@ -142,7 +142,7 @@ def _tan_rows(v: FloatArray, f: IntArray) -> FloatArray:
     sq, dbl = _edge_geometry(v, f)
     length = np.sqrt(sq)
     with np.errstate(divide="ignore", invalid="ignore"):
-        r = dbl / length.sum(axis=0)             # inradius = A / s = dbl / perimeter
+        r: FloatArray = dbl / length.sum(axis=0)  # inradius = A / s = dbl / perimeter
         return r / length
 
 
@@ -344,7 +344,7 @@ def mesh_laplacian(vertices: Any, faces: Any,
     return _assemble(n, f, rows3, laplacian=True)
 
 
-def _check_square(w: sp.sparray, name: str) -> None:
+def _check_square(w: sp.csr_array, name: str) -> None:
     if w.ndim != 2 or w.shape[0] != w.shape[1]:
         raise InvalidInputError(
             f"Expected `{name}` to be a square (n, n) matrix, got shape {tuple(w.shape)}.",
@@ -384,7 +384,8 @@ def normalized_laplacian(W: Any, kind: Literal["row", "symmetric"] = "symmetric"
     lap = laplacian(w)
     if kind == "row":
         inv = np.divide(1.0, d, out=np.zeros_like(d), where=d != 0)
-        return (sp.diags_array(inv, format="csr") @ lap).tocsr()
+        row: sp.csr_array = (sp.diags_array(inv, format="csr") @ lap).tocsr()
+        return row
     if (d < 0).any():
         i = int(np.argmax(d < 0))
         raise InvalidInputError(
@@ -392,7 +393,8 @@ def normalized_laplacian(W: Any, kind: Literal["row", "symmetric"] = "symmetric"
             f"{float(d[i])!r} at row {i}.", field="W")
     inv = np.divide(1.0, np.sqrt(d), out=np.zeros_like(d), where=d > 0)
     s = sp.diags_array(inv, format="csr")
-    return (s @ lap @ s).tocsr()
+    sym: sp.csr_array = (s @ lap @ s).tocsr()
+    return sym
 
 
 def mass_matrix(vertices: Any, faces: Any,

@@ -75,7 +75,8 @@ class Procrustes:
     @property
     def trace(self) -> FloatArray:
         """``tr(Rᵀ C) = tr(D Σ)``, the attained maximum (``(...)``-shaped)."""
-        return np.einsum("...i,...i->...", self.signs, self.singular_values)
+        attained: FloatArray = np.einsum("...i,...i->...", self.signs, self.singular_values)
+        return attained
 
 
 def det(m: Any) -> Any:

@@ -148,7 +148,9 @@ class _SuperLUPivoting(_SuperLU):
         self._lu = sla.splu(sp.csc_matrix(a), permc_spec="MMD_AT_PLUS_A")
 
 
-_CLASSES = {"cholmod": _Cholmod, "cholespy": _Cholespy, "superlu": _SuperLU}
+_Backend = _Cholmod | _Cholespy | _SuperLU
+_CLASSES: dict[str, type[_Backend]] = {"cholmod": _Cholmod, "cholespy": _Cholespy,
+                                       "superlu": _SuperLU}
 
 
 class Factor:
@@ -215,7 +217,7 @@ class Factor:
                 f" got {backend!r} (install {_MODULES[backend]}).", field="backend")
         else:
             order = [backend] + (["superlu"] if backend != "superlu" else [])
-        self._impl: Any = None
+        self._impl: _Backend | None = None  # None only when n == 0
         self.backend = "none"
         if self.shape[0] == 0:
             return
@@ -266,7 +268,7 @@ class Factor:
             raise InvalidInputError(
                 f"Expected `b` to have shape ({self.n},) or ({self.n}, k), got "
                 f"{tuple(arr.shape)}.", field="b")
-        if self.n == 0 or arr.size == 0:
+        if self._impl is None or arr.size == 0:  # no backend: n == 0
             return np.zeros(arr.shape)
         return self._impl.solve(arr)
 

@@ -123,9 +123,10 @@ def _fmt_shape(shape: tuple[int, ...]) -> str:
 
 def _shape_of(x: Any) -> tuple[int, ...] | None:
     try:
-        return np.shape(x)
+        shape: tuple[int, ...] = np.shape(x)
     except (ValueError, TypeError):  # ragged: as_indices/as_points word the error
         return None
+    return shape
 
 
 def _doubled_area_and_longest(vertices: FloatArray, faces: IntArray
@@ -141,7 +142,8 @@ def _doubled_area_and_longest(vertices: FloatArray, faces: IntArray
 def _cross_norm(a: FloatArray, b: FloatArray) -> FloatArray:
     if a.shape[1] == 2:
         return np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-    return np.linalg.norm(np.cross(a, b), axis=1)
+    norm: FloatArray = np.linalg.norm(np.cross(a, b), axis=1)
+    return norm
 
 
 def as_mesh(
@@ -487,7 +489,8 @@ def face_normals(vertices: Any, faces: Any) -> FloatArray:
         p0, p1, p2 = (np.hstack([p, pad]) for p in (p0, p1, p2))
     c = np.cross(p1 - p0, p2 - p0)
     norm = np.linalg.norm(c, axis=1, keepdims=True)
-    return np.divide(c, norm, out=np.zeros_like(c), where=norm > 0)
+    unit: FloatArray = np.divide(c, norm, out=np.zeros_like(c), where=norm > 0)
+    return unit
 
 
 def face_angles(vertices: Any, faces: Any) -> FloatArray:

@@ -61,11 +61,13 @@ class Pairs:
 
     @property
     def n(self) -> int:
-        return self.source.shape[0]
+        n: int = self.source.shape[0]
+        return n
 
     @property
     def d(self) -> int:
-        return self.source.shape[1]
+        d: int = self.source.shape[1]
+        return d
 
     @property
     def weighted(self) -> bool:

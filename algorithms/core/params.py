@@ -234,15 +234,17 @@ def _bounds(meta: list[Any], base: type) -> tuple[float | None, float | None, tu
     flat: list[Any] = []
     for m in meta:
         flat.extend(m if isinstance(m, GroupedMetadata) else [m])
+    # annotated-types types a bound as any comparable (SupportsGe …); the bounds of an int or
+    # float parameter are numbers, so they are taken as such
     for m in flat:
         if isinstance(m, Ge):
-            lo, incl[0] = m.ge, True
+            lo, incl[0] = typing.cast(float, m.ge), True
         elif isinstance(m, Gt):
-            lo, incl[0] = m.gt, False
+            lo, incl[0] = typing.cast(float, m.gt), False
         elif isinstance(m, Le):
-            hi, incl[1] = m.le, True
+            hi, incl[1] = typing.cast(float, m.le), True
         elif isinstance(m, Lt):
-            hi, incl[1] = m.lt, False
+            hi, incl[1] = typing.cast(float, m.lt), False
         elif isinstance(m, BaseMetadata):
             raise TypeError(f"unsupported constraint {m!r}")
     if base is int:  # integers: open bounds become closed ones

@@ -121,7 +121,8 @@ def editing_matrix(vertices: FloatArray, faces: IntArray, weights: Weights = "un
     cols = np.broadcast_to(rj[:, None, None] * d + np.arange(d)[None, None, :], shape)
     t_part = sp.coo_array((coef.ravel(), (rows.ravel(), cols.ravel())), shape=(d * n, d * n))
     l_part = sp.kron(L, sp.eye_array(d), format="csr")
-    return (t_part.tocsr() - l_part).tocsr()
+    out: sp.csr_array = (t_part.tocsr() - l_part).tocsr()
+    return out
 
 
 @validate_params

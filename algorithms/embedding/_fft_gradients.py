@@ -123,8 +123,8 @@ def _kernels(d: int, nodes_1d: int, spacing: float) -> tuple[np.ndarray, np.ndar
     :math:`Z` from the charges' transform by Parseval, :math:`c(f)` counting each
     half-spectrum frequency with its mirror. Cached: the grid changes only now and then."""
     m = 2 * nodes_1d
-    off = np.arange(m)
-    off = np.where(off < nodes_1d, off, off - m).astype(np.float64)
+    steps = np.arange(m)
+    off = np.where(steps < nodes_1d, steps, steps - m).astype(np.float64)
     inside = np.abs(off) < nodes_1d
     off *= spacing
     if d == 1:

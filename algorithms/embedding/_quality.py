@@ -19,14 +19,14 @@ r"""Quality figures every embedding reports, and the deterministic sign conventi
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, IntpArray, KnnQuery
 from algorithms.core.validation import as_int, as_points
 
 __all__ = ["trustworthiness", "fix_signs", "quality_neighbors"]
@@ -46,15 +46,16 @@ def _score(total: float, n: int, k: int) -> float:
     return 1.0 - total * 2.0 / (n * k * (2.0 * n - 3.0 * k - 1.0))
 
 
-def _embedded_neighbours(y: FloatArray, k: int) -> IntArray:
+def _embedded_neighbours(y: FloatArray, k: int) -> IntpArray:
     """Each point's ``k`` nearest neighbours in the embedding, itself excluded (with
     coincident images it may sit anywhere among the ``k + 1`` found, or not at all)."""
-    n = y.shape[0]
-    _, nbr = cKDTree(y).query(y, k=k + 1)
+    n: int = y.shape[0]
+    _, nbr = cast(KnnQuery, cKDTree(y).query(y, k=k + 1))
     nbr = nbr.reshape(n, k + 1)
     own = nbr == np.arange(n)[:, None]
     own[~own.any(axis=1), -1] = True
-    return nbr[~own].reshape(n, k)
+    others: IntpArray = nbr[~own].reshape(n, k)
+    return others
 
 
 def quality_neighbors(k: int, n: int) -> int:
@@ -212,7 +213,7 @@ def fix_signs(vectors: FloatArray) -> FloatArray:
     return v
 
 
-def _outsider_ranks_from_lists(x: FloatArray, emb: IntArray, input_d2: FloatArray,
+def _outsider_ranks_from_lists(x: FloatArray, emb: IntpArray, input_d2: FloatArray,
                                input_nbr: IntArray, k: int) -> float:
     r"""The sum of ``max(0, r(i, j) - k)`` over the embedded neighbours ``emb`` (``(n, k)``)
     with the input's sorted neighbour lists known (squared distances and indices, at least
@@ -295,4 +296,5 @@ def _screen(xc: FloatArray, single: bool = True
 def _count_rows(mask: np.ndarray) -> IntArray:
     """``count_nonzero(mask, axis=1)``, by packing the bits and counting them (about twice
     as fast)."""
-    return np.bitwise_count(np.packbits(mask, axis=1)).sum(axis=1, dtype=np.int64)
+    counts: IntArray = np.bitwise_count(np.packbits(mask, axis=1)).sum(axis=1, dtype=np.int64)
+    return counts

@@ -5,17 +5,18 @@ from __future__ import annotations
 import heapq
 import math
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal, cast
 
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
+from numpy.typing import NDArray
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
 from algorithms.core.graphs import Neighbors, neighbour_graph
 from algorithms.core.params import Ge, Gt, PointsLike, validate_params
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import BoolArray, FloatArray, IntArray
 from algorithms.core.validation import as_int, as_points
 from algorithms.embedding._quality import trustworthiness
 from algorithms.layout.mds import classical_coordinates
@@ -129,7 +130,7 @@ def isomap(
 
     Notes
     -----
-    **Disconnected graphs are an error** here (ALGORITHMS.md), not repaired:
+    **Disconnected graphs are an error** here, not repaired:
     scikit-learn ≥ 1.0 joins the components by their closest pairs with a warning
     (PR #20531), which makes the geodesic distances between components straight-line
     jumps and the embedding depend on them; an error naming the component count lets the
@@ -203,7 +204,7 @@ def _induced(g: sp.csr_array, idx: IntArray) -> sp.csr_array:
                         shape=(idx.size, idx.size))
 
 
-def _patches(g: sp.csr_array, ball: int) -> IntArray:
+def _patches(g: sp.csr_array, ball: int) -> NDArray[np.int32]:
     """A label per vertex: graph Voronoi cells (by edge length) of seeds chosen greedily,
     each seed the first vertex not yet within the first ``ball`` vertices of the
     breadth-first order from an earlier seed."""
@@ -222,7 +223,7 @@ def _patches(g: sp.csr_array, ball: int) -> IntArray:
     return labels
 
 
-def _cover(n: int, rows: IntArray, cols: IntArray, cut: Any) -> Any:
+def _cover(n: int, rows: IntArray, cols: NDArray[np.integer], cut: BoolArray) -> BoolArray:
     """A vertex cover of the edges ``rows[cut] - cols[cut]`` (both directions listed):
     greedily the vertex on the most uncovered edges first. A boolean mask."""
     r, c = rows[cut], cols[cut]
@@ -363,7 +364,7 @@ def _block_krylov(squared: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
     idx = np.arange(1, n + 1, dtype=np.float64)
     q = np.cos(np.outer(idx, np.arange(1, b + 1) * 0.6180339887498949))  # deterministic
     q -= q.mean(axis=0)
-    v = la.qr(q, mode="economic")[0]
+    v = cast(FloatArray, la.qr(q, mode="economic")[0])  # float64 (stubs: any floating)
     av = _centred_product(squared, v)
     last = b
     for _ in range(_KRYLOV_STEPS):
@@ -398,7 +399,7 @@ def _block_krylov(squared: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
             break
         q = q[:, fresh]
         q -= v @ (v.T @ q)
-        q = la.qr(q, mode="economic")[0]
+        q = cast(FloatArray, la.qr(q, mode="economic")[0])
         last = q.shape[1]
         v = np.hstack([v, q])
         av = np.hstack([av, _centred_product(squared, q)])

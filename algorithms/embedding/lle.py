@@ -4,10 +4,11 @@ reconstruction weights in few dimensions."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, cast
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
@@ -59,13 +60,14 @@ def _solve_rows(z: FloatArray, reg: float) -> FloatArray:
     kk = c.shape[1]
     c[:, np.arange(kk), np.arange(kk)] += r[:, None]
     try:
-        w = np.linalg.solve(c, np.ones((c.shape[0], kk, 1)))[..., 0]
+        w: FloatArray = np.linalg.solve(c, np.ones((c.shape[0], kk, 1)))[..., 0]
     except np.linalg.LinAlgError:
         raise DegenerateInputError(
             "Expected each point's neighbourhood to determine its reconstruction weights, got "
             "a singular local Gram matrix (more neighbours than dimensions, or coincident "
             "neighbours): use regularization > 0.", field="regularization") from None
-    return w / w.sum(axis=1, keepdims=True)
+    total: FloatArray = w.sum(axis=1, keepdims=True)
+    return w / total
 
 
 def barycenter_weights(x: FloatArray, neighbours: list[np.ndarray] | np.ndarray,
@@ -217,7 +219,8 @@ def lle(
             raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
                                     field="radius")
         r = radius
-        lists = tree.query_ball_point(x, r)
+        # x is 2-D: an object array of one list per point (the stubs also allow a list)
+        lists = cast(NDArray[np.object_], tree.query_ball_point(x, r))
         nbrs = [np.array([j for j in lst if j != i], dtype=np.int64)
                 for i, lst in enumerate(lists)]
         lonely = [i for i, a in enumerate(nbrs) if a.size == 0]

@@ -220,10 +220,10 @@ def check_grid(rows: int, columns: int) -> None:
 
 def _initial(x: FloatArray, grid: FloatArray, r: int, c: int, init: str,
              rng: np.random.Generator) -> FloatArray:
-    m = grid.shape[0]
+    m: int = grid.shape[0]
     if init == "random":
         return x[rng.integers(x.shape[0], size=m)].copy()
-    mean = x.mean(axis=0)
+    mean: FloatArray = x.mean(axis=0)
     _, s, vt = la.svd(x - mean, full_matrices=False, check_finite=False)
     sd = s / np.sqrt(max(x.shape[0] - 1, 1))
     axes = np.zeros((2, x.shape[1]))
@@ -235,7 +235,8 @@ def _initial(x: FloatArray, grid: FloatArray, r: int, c: int, init: str,
     v = (grid[:, 1] / max(c - 1, 1)) * 2.0 - 1.0 if c > 1 else np.zeros(m)
     # the longer grid side follows the first principal axis
     first, second = (u, v) if r >= c else (v, u)
-    return mean + first[:, None] * axes[0] + second[:, None] * axes[1]
+    start: FloatArray = mean + first[:, None] * axes[0] + second[:, None] * axes[1]
+    return start
 
 
 def _bmu(x: FloatArray, w: FloatArray) -> tuple[IntArray, IntArray, IntArray]:

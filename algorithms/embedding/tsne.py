@@ -125,7 +125,8 @@ def _calibrate(d2: FloatArray, perplexity: float) -> tuple[FloatArray, FloatArra
 def _row_entropy(p: FloatArray) -> FloatArray:
     """Shannon entropy (nats) of each row."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        return -np.where(p > 0, p * np.log(p), 0.0).sum(axis=1)
+        plogp: FloatArray = np.where(p > 0, p * np.log(p), 0.0).sum(axis=1)
+        return -plogp
 
 
 def _nearest_neighbors(x: FloatArray, k: int) -> tuple[FloatArray, IntArray]:
@@ -230,6 +231,13 @@ def _aligned(x: FloatArray) -> FloatArray:
     return np.require(x, dtype=np.float64, requirements=("C_CONTIGUOUS", "ALIGNED"))
 
 
+@typing.overload
+def affinities(x: FloatArray, perplexity: float, *, dense: Literal[True]) -> FloatArray: ...
+@typing.overload
+def affinities(x: FloatArray, perplexity: float, *, dense: Literal[False]) -> sp.csr_matrix: ...
+@typing.overload
+def affinities(x: FloatArray, perplexity: float, *, dense: bool
+               ) -> FloatArray | sp.csr_matrix: ...
 def affinities(x: FloatArray, perplexity: float, *, dense: bool) -> FloatArray | sp.csr_matrix:
     r"""The symmetric joint affinities :math:`p_{ij} = (p_{j|i} + p_{i|j}) / 2n`.
 
@@ -239,7 +247,7 @@ def affinities(x: FloatArray, perplexity: float, *, dense: bool) -> FloatArray |
     matrix summing to 1.
     """
     x = _aligned(x)                                 # x @ x.T: always syrk (see _aligned)
-    n = x.shape[0]
+    n: int = x.shape[0]
     if dense:
         sq = np.einsum("ij,ij->i", x, x)
         d2 = np.maximum(sq[:, None] - 2.0 * (x @ x.T) + sq[None, :], 0.0)
@@ -294,8 +302,8 @@ def _exact_kl_gradient(p: FloatArray, y: FloatArray, exaggeration: float = 1.0,
     return (_plogp(p) if plogp is None else plogp) - plogw + float(np.log(z)), grad
 
 
-def _plogp(p: Any) -> float:
-    v = p.data if sp.issparse(p) else p[p > 0]
+def _plogp(p: FloatArray | sp.csr_matrix) -> float:
+    v = p.data if isinstance(p, sp.csr_matrix) else p[p > 0]
     return float((v * np.log(v)).sum())
 
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -31,7 +31,7 @@ from scipy.spatial.transform import Rotation
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_mesh
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import MAX_COORDINATE, as_indices, as_points
 
 __all__ = [
@@ -334,7 +334,7 @@ def edges_of(source: FloatArray, faces: IntArray) -> IntArray:
         n = source.shape[0]
         if n < 2:
             return np.zeros((0, 2), dtype=np.int64)
-        _, nn = cKDTree(source).query(source, k=2)
+        _, nn = cast(KnnQuery, cKDTree(source).query(source, k=2))
         e = np.stack([np.arange(n), nn[:, 1]], axis=1)
     else:
         k = faces.shape[1]
@@ -367,7 +367,8 @@ def edge_errors(frames: FloatArray, times: FloatArray, source: FloatArray,
 
     def lengths(p: FloatArray) -> FloatArray:
         diff = p[..., edges[:, 1], :] - p[..., edges[:, 0], :]
-        return np.sqrt(np.einsum("...ij,...ij->...i", diff, diff))
+        squared: FloatArray = np.einsum("...ij,...ij->...i", diff, diff)
+        return np.sqrt(squared)
 
     l0, l1 = lengths(source), lengths(target)
     ref = (1.0 - times)[:, None] * l0 + times[:, None] * l1
@@ -375,13 +376,15 @@ def edge_errors(frames: FloatArray, times: FloatArray, source: FloatArray,
     err = np.abs(got - ref)
     rel = np.divide(err, ref, out=np.where(err > 0, np.inf, 0.0), where=ref > 0)
     rel[~np.isfinite(rel)] = np.finfo(np.float64).max  # an edge of zero length that grew
-    return rel.max(axis=1)
+    worst: FloatArray = rel.max(axis=1)
+    return worst
 
 
 def pivot_of(source: FloatArray, pivot: str) -> FloatArray:
     """The point the linear part acts about: the source's centroid or the origin."""
     if pivot == "centroid":
-        return source.mean(axis=0)
+        centroid: FloatArray = source.mean(axis=0)
+        return centroid
     return np.zeros(source.shape[1])
 
 

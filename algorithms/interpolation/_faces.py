@@ -89,10 +89,13 @@ def face_measures(v: FloatArray, f: IntArray) -> FloatArray:
     """Area of every triangle or volume of every tetrahedron (unsigned)."""
     e = _edges(v, f)
     if e.shape[2] == 3:
-        return np.abs(np.linalg.det(e)) / 6.0
+        dets: FloatArray = np.linalg.det(e)
+        return np.abs(dets) / 6.0
     if e.shape[1] == 2:
-        return 0.5 * np.abs(e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
-    return 0.5 * np.linalg.norm(np.cross(e[:, :, 0], e[:, :, 1]), axis=1)
+        cross: FloatArray = e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0]
+        return 0.5 * np.abs(cross)
+    norms: FloatArray = np.linalg.norm(np.cross(e[:, :, 0], e[:, :, 1]), axis=1)
+    return 0.5 * norms
 
 
 def face_dets(source: FloatArray, frames: FloatArray, f: IntArray) -> FloatArray:
@@ -104,7 +107,8 @@ def face_dets(source: FloatArray, frames: FloatArray, f: IntArray) -> FloatArray
     def size(e: FloatArray) -> FloatArray:
         if square:
             return np.asarray(det(e))
-        return np.linalg.norm(np.cross(e[:, :, 0], e[:, :, 1]), axis=1)
+        norms: FloatArray = np.linalg.norm(np.cross(e[:, :, 0], e[:, :, 1]), axis=1)
+        return norms
 
     base = size(e0)
     out = np.empty(frames.shape[0])

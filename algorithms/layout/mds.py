@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated
+from typing import Annotated, cast
 
 import numpy as np
 import scipy.linalg as la
@@ -290,8 +290,9 @@ def _truncate(f: FloatArray, r: int, basis: FloatArray | None, steps: int
     q = basis
     if q is None or q.shape[1] == 0:
         q = np.random.default_rng(0).standard_normal((n, width))
-    for _ in range(steps):
-        q, _ = la.qr(f @ q, mode="economic", overwrite_a=True, check_finite=False)
+    for _ in range(steps):  # Q of float64 is float64 (the stubs say any floating)
+        q = cast(FloatArray,
+                 la.qr(f @ q, mode="economic", overwrite_a=True, check_finite=False)[0])
     t = q.T @ (f @ q)
     w, v = la.eigh(0.5 * (t + t.T), check_finite=False)  # Rayleigh-Ritz
     q = q @ v

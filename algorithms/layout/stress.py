@@ -345,6 +345,8 @@ class _Majorizer:
 
     def guttman(self, x: FloatArray) -> FloatArray:
         """``V⁺ B(x) x`` from the distances of ``x`` left in ``dist`` by :meth:`stress`."""
+        n: int
+        k: int
         n, k = x.shape
         np.fill_diagonal(self.dist, 1.0)  # b_ii comes from the row sums, not the ratio
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -150,4 +150,5 @@ def initial_map(disk: Disk, init: str) -> FloatArray:
                                     "positions": convex_boundary(disk, "circle")},
                            weighting="cotangent").positions
     plane = abs(float(signed_areas(uv, m.faces).sum()))
-    return uv * np.sqrt(face_areas(m.vertices, m.faces).sum() / plane)
+    scale: float = np.sqrt(face_areas(m.vertices, m.faces).sum() / plane)
+    return uv * scale

@@ -22,7 +22,8 @@ and :math:`J` is a similarity iff :math:`R = 0`.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 
@@ -32,6 +33,13 @@ from algorithms.layout.laplacian import face_orientation
 __all__ = ["Quality", "quality", "face_frames", "jacobians", "similarity_parts"]
 
 
+class QualityFields(TypedDict):
+    flipped_faces: int
+    degenerate_faces: int
+    angle_distortion: float
+    area_distortion: float
+
+
 @dataclass(frozen=True)
 class Quality:
     flipped_faces: int
@@ -39,9 +47,12 @@ class Quality:
     angle_distortion: float
     area_distortion: float
 
-    def fields(self) -> dict[str, int | float]:
+    def fields(self) -> QualityFields:
         """The four figures by name, as every parameterization result carries them."""
-        return asdict(self)
+        return QualityFields(flipped_faces=self.flipped_faces,
+                             degenerate_faces=self.degenerate_faces,
+                             angle_distortion=self.angle_distortion,
+                             area_distortion=self.area_distortion)
 
 
 def face_frames(vertices: FloatArray, faces: IntArray) -> FloatArray:

@@ -179,7 +179,8 @@ class AngleSystem:
         whose next corner c is (the previous corner's vertex) and −λ of the vertex whose
         previous corner c is (the next corner's vertex)."""
         full = np.concatenate([l_len, [0.0]])         # row -1 (boundary) reads 0
-        return full[self._row[self._prev]] - full[self._row[self._next]]
+        per_corner: FloatArray = full[self._row[self._prev]] - full[self._row[self._next]]
+        return per_corner
 
     def _J_len(self, cot: FloatArray) -> sp.csr_array:
         ic, rows = self._inner_corners, self._inner_rows

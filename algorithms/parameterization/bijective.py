@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 from dataclasses import dataclass
-from typing import Annotated, Any
+from typing import Annotated, Any, cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -339,22 +339,25 @@ class BijectiveSolver:
         hv = (wt[:, None, None, None, None] * M[:, :, :, None, None]
               * K[:, None, None, :, :])                                  # (m, b, b', k, l)
         var = self._var                                                  # (m, b, k)
-        data = np.bincount(self._slot_of, minlength=self._indices.size,
-                           weights=np.concatenate([hv.ravel(), np.full(2 * n,
-                                                                       self.proximal)]))
+        # np.bincount with weights sums float64 (its stub says intp)
+        data = cast(FloatArray, np.bincount(
+            self._slot_of, minlength=self._indices.size,
+            weights=np.concatenate([hv.ravel(), np.full(2 * n, self.proximal)])))
         H = sp.csc_array((data, self._indices, self._indptr), shape=(2 * n, 2 * n))
         G = wt[:, None, None] * (M @ (J - R))
-        grad = np.bincount(var.ravel(), weights=(G @ gt).ravel(), minlength=2 * n)
-        _, e, k, d, s_, nrm = self._barrier(uv)
-        if e.size:
+        grad = cast(FloatArray, np.bincount(var.ravel(), weights=(G @ gt).ravel(),
+                                            minlength=2 * n))
+        _, edge, slot, dist, s_, nrm = self._barrier(uv)
+        if edge.size:
             loop = self.loop
-            verts = np.stack([loop[k], self.edge_a[e], self.edge_b[e]], axis=1)    # (q, 3)
+            verts = np.stack([loop[slot], self.edge_a[edge], self.edge_b[edge]],
+                             axis=1)                                                # (q, 3)
             coef = np.stack([np.ones_like(s_), s_ - 1.0, -s_], axis=1)             # ∂d/∂p
             dd = (coef[:, :, None] * nrm[:, None, :]).reshape(-1, 6)              # (q, 6)
             idx = (np.arange(2)[None, None, :] * n + verts[:, :, None]).reshape(-1, 6)
-            r = self.eps / d - 1.0
-            dphi = -2.0 * self.lam * r * self.eps / d ** 2
-            hgn = 2.0 * self.lam * (self.eps / d ** 2) ** 2
+            r = self.eps / dist - 1.0
+            dphi = -2.0 * self.lam * r * self.eps / dist ** 2
+            hgn = 2.0 * self.lam * (self.eps / dist ** 2) ** 2
             grad += np.bincount(idx.ravel(), weights=(dphi[:, None] * dd).ravel(),
                                 minlength=2 * n)
             bv = hgn[:, None, None] * dd[:, :, None] * dd[:, None, :]
@@ -498,7 +501,8 @@ def tutte_start(disk: Disk) -> FloatArray:
             f"Expected `mesh` to have a flip-free Tutte map to start from, got face {t} "
             f"collapsed in it by rounding (signed area {sa[t]:.3g}); remesh the thinnest or "
             f"smallest faces.", field="mesh")
-    return uv * np.sqrt(face_areas(m.vertices, m.faces).sum() / sa.sum())
+    scale: float = np.sqrt(face_areas(m.vertices, m.faces).sum() / sa.sum())
+    return uv * scale
 
 
 @validate_params

@@ -52,7 +52,7 @@ def conformal_energy_matrix(mesh: Mesh) -> sp.csr_array:
     cols = np.concatenate([n + j, i, n + i, j])
     vals = np.concatenate([-q, -q, q, q])           # minus the area term
     area = sp.coo_array((vals, (rows, cols)), shape=(2 * n, 2 * n))
-    out = (0.5 * sp.block_diag([lap, lap], format="csr") + area).tocsr()
+    out: sp.csr_array = (0.5 * sp.block_diag([lap, lap], format="csr") + area).tocsr()
     out.sum_duplicates()
     return out
 

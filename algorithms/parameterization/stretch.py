@@ -152,7 +152,7 @@ class _RowSolver:
 
     def solve(self, data: FloatArray) -> FloatArray:
         w = sp.csr_array((data, self.w.indices, self.w.indptr), shape=self.w.shape)
-        lap = (sp.diags_array(np.asarray(w.sum(axis=1)).ravel()) - w).tocsr()
+        lap: sp.csr_array = (sp.diags_array(np.asarray(w.sum(axis=1)).ravel()) - w).tocsr()
         rows = lap[self.free]
         x = np.empty((self.n, 2))
         x[self.pinned] = self.values

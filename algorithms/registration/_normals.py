@@ -32,7 +32,8 @@ def given_normals(normals: Any, n: int, *, name: str) -> FloatArray:
         raise InvalidInputError(
             f"Expected `{name}` to hold one normal per `{points}` point ({n}), got "
             f"{out.shape[0]}.", field=name)
-    length = np.sqrt(np.einsum("ij,ij->i", out, out))
+    squared: FloatArray = np.einsum("ij,ij->i", out, out)
+    length = np.sqrt(squared)
     short = np.flatnonzero(length < MIN_NORMAL_LENGTH)
     if short.size:
         raise InvalidInputError(

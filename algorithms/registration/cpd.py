@@ -9,7 +9,7 @@ import os
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal, get_args
+from typing import Annotated, Any, Literal, cast, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -18,7 +18,7 @@ from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.linalg import procrustes
 from algorithms.core.params import Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.types import FloatArray
+from algorithms.core.types import FloatArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 
 __all__ = ["CPDResult", "cpd", "check_sizes", "MODELS", "CHUNK_BYTES", "EXACT_KERNEL_MAX",
@@ -329,7 +329,8 @@ def _exact_rows(x: FloatArray, ax: FloatArray, ty_scaled: FloatArray, ay: FloatA
 # --- the nonrigid kernel ----------------------------------------------------------------------
 
 
-def _gauss_blocks(y: FloatArray, beta: float, chunk_bytes: int):  # noqa: ANN202
+def _gauss_blocks(y: FloatArray, beta: float, chunk_bytes: int
+                  ) -> Iterator[tuple[int, int, FloatArray]]:
     """Yield ``(lo, hi, G[lo:hi])`` for the Gaussian kernel of ``y``, one block at a time."""
     m = y.shape[0]
     y2 = np.einsum("ij,ij->i", y, y) * (0.5 / beta**2)
@@ -434,13 +435,14 @@ def _rigid_step(x: FloatArray, y: FloatArray, p1: FloatArray, pt1: FloatArray,
 def _affine_step(x: FloatArray, y: FloatArray, p1: FloatArray, pt1: FloatArray,
                  px: FloatArray) -> tuple[FloatArray, FloatArray, float]:
     np_, mux, muy, yh, a, xpx = _centred_moments(x, y, p1, pt1, px)
-    d = x.shape[1]
+    d: int = x.shape[1]
     ypy = (yh * p1[:, None]).T @ yh
     ev = np.linalg.eigvalsh(ypy)
     if not ev[0] > 1e-12 * max(ev[-1], 0.0) or not ev[-1] > 0:
         raise _Undetermined("the weighted source points span fewer than d dimensions, so "
                             "the affine map is undetermined")
-    b = np.linalg.solve(ypy, a.T).T               # A (Ŷᵀ d(P1) Ŷ)⁻¹
+    # A (Ŷᵀ d(P1) Ŷ)⁻¹; float64 (the stubs of solve say any floating)
+    b = cast(FloatArray, np.linalg.solve(ypy, a.T).T)
     sigma2 = (xpx - float(np.sum(a * b))) / (np_ * d)
     return b, mux - b @ muy, sigma2
 
@@ -480,7 +482,7 @@ class _Nonrigid:
             # (d(P1) G + λσ² I) W = PX - d(P1) Y   (eq. 22 of the paper times d(P1))
             mat = p1[:, None] * self.g
             mat[np.diag_indices_from(mat)] += a
-            self.w = np.linalg.solve(mat, rhs)
+            self.w = cast(FloatArray, np.linalg.solve(mat, rhs))  # float64 (stubs: floating)
             ty = self.y + self.g @ self.w
         else:
             # Woodbury with G ≈ Q Λ Qᵀ: W = (B - d(P1) Q (a Λ⁻¹ + Qᵀ d(P1) Q)⁻¹ Qᵀ B) / a
@@ -787,7 +789,7 @@ def cpd(
 
     moved = ty * sx + mu_x
     tree = cKDTree(dst)
-    dist, _ = tree.query(moved, workers=-1 if m_pts >= 8192 else 1)
+    dist, _ = cast(KnnQuery, tree.query(moved, workers=-1 if m_pts >= 8192 else 1))
     rmse = math.sqrt(float(dist @ dist) / m_pts)
     if not converged:
         warn(f"CPD did not converge: {reason}.", ConvergenceWarning)

@@ -10,7 +10,7 @@ depend on the number of threads.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from scipy import sparse
@@ -18,7 +18,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components, mini
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_float, as_int, as_points, check_min_points
 from algorithms.registration._normals import estimate_normals, given_normals
 
@@ -63,7 +63,7 @@ def point_spacing(points: FloatArray, tree: cKDTree | None = None) -> float:
         return 0.0
     tree = cKDTree(points) if tree is None else tree
     k = min(SPACING_RANK, n - 1)
-    dist, _ = tree.query(points, k=k + 1)
+    dist, _ = cast(KnnQuery, tree.query(points, k=k + 1))
     return float(np.median(dist[:, k]))
 
 
@@ -132,15 +132,15 @@ def orient_normals(points: FloatArray, normals: FloatArray, neighbors: IntArray)
     rows, cols = rows[keep], cols[keep]
     weight = 1.0 - np.abs(np.einsum("ij,ij->i", normals[rows], normals[cols])) + _TINY_WEIGHT
     graph = sparse.csr_matrix((weight, (rows, cols)), shape=(n, n))
-    tree = minimum_spanning_tree(graph)
-    n_parts, label = connected_components(tree, directed=False)
+    mst = minimum_spanning_tree(graph)
+    n_parts, label = connected_components(mst, directed=False)
     # A virtual root joined to the first point of every part: one traversal for all parts.
     first = np.full(n_parts, n, dtype=np.int64)
     np.minimum.at(first, label, np.arange(n))
-    tree = tree.tocoo()
-    r = np.concatenate([tree.row, np.full(n_parts, n)])
-    c = np.concatenate([tree.col, first])
-    w = np.concatenate([tree.data, np.ones(n_parts)])
+    mst_edges = mst.tocoo()
+    r = np.concatenate([mst_edges.row, np.full(n_parts, n)])
+    c = np.concatenate([mst_edges.col, first])
+    w = np.concatenate([mst_edges.data, np.ones(n_parts)])
     full = sparse.csr_matrix((w, (r, c)), shape=(n + 1, n + 1))
     _, parent = breadth_first_order(full, n, directed=False, return_predecessors=True)
     parent = parent[:n].astype(np.int64)
@@ -351,7 +351,7 @@ def feature_normals(points: FloatArray, tree: cKDTree, k: int) -> FloatArray:
     """Normals by local PCA of ``k`` neighbours, consistently oriented (:func:`orient_normals`)."""
     normals, _ = estimate_normals(points, tree, k, 1)
     kk = min(k, points.shape[0] - 1)
-    _, idx = tree.query(points, k=kk + 1)
+    _, idx = cast(KnnQuery, tree.query(points, k=kk + 1))
     return orient_normals(points, normals, idx.astype(np.int64))
 
 

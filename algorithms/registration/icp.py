@@ -7,7 +7,7 @@ import functools
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal, get_args
+from typing import Annotated, Any, Literal, cast, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -19,7 +19,7 @@ from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.pairs import rotation_fit, trusted_pairs
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 from algorithms.registration._normals import estimate_normals, given_normals
 
@@ -183,12 +183,12 @@ class _Problem:
         d = self.src.shape[1]
         moved = self.src @ transform[:d, :d].T + transform[:d, d]
         if self.max_dist is None:
-            dist, idx = self.tree.query(moved, workers=self.workers)
+            dist, idx = cast(KnnQuery, self.tree.query(moved, workers=self.workers))
             src = np.arange(self.n)
         else:
             # The tree's cut-off compares rounded squares: search a hair wider, cut exactly.
-            dist, idx = self.tree.query(moved, distance_upper_bound=self.max_dist * (1 + 1e-9),
-                                        workers=self.workers)
+            dist, idx = cast(KnnQuery, self.tree.query(
+                moved, distance_upper_bound=self.max_dist * (1 + 1e-9), workers=self.workers))
             src = np.flatnonzero(dist <= self.max_dist)
             dist, idx = dist[src], idx[src]
         inliers = src.size

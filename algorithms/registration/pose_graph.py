@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Annotated, Literal, get_args
+from typing import Annotated, Literal, cast, get_args
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import NDArray
 from scipy.sparse.csgraph import breadth_first_order, connected_components, minimum_spanning_tree
 from scipy.sparse.linalg import spsolve
 from scipy.spatial import cKDTree
@@ -19,7 +21,7 @@ from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, war
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.se3 import adjoint, exp, hat, inverse, left_jacobian_inverse, log
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_int
 from algorithms.registration._point_sets import (
     MultiwayResult,
@@ -285,7 +287,7 @@ def _default_distance(pts: list[FloatArray]) -> float:
     spacings = []
     for p in pts:
         sample = p[:: max(1, len(p) // SPACING_SAMPLE)]
-        dist, _ = cKDTree(p).query(sample, k=2)
+        dist, _ = cast(KnnQuery, cKDTree(p).query(sample, k=2))
         spacings.append(float(np.median(dist[:, 1])))
     value = SPACING_FACTOR * float(np.median(spacings))
     if not value > 0:
@@ -356,11 +358,11 @@ def _pose_graph(pts: list[FloatArray], start: FloatArray | None, opts: _GraphOpt
     sequential = opts.neighbors is not None or k > ALL_PAIRS_UP_TO
     trees = [cKDTree(p) for p in pts]
     icp_work = len(STAGES) * opts.icp_iterations
-    total = len(pairs) * icp_work + 2 * opts.max_iterations
+    work = len(pairs) * icp_work + 2 * opts.max_iterations
 
     def scaled(base: float) -> Progress:
-        def inner(done: float, _total: float, message: str = "") -> None:
-            report(base + done, total, message)
+        def inner(done: float, total: float, message: str = "") -> None:  # total: ICP's own
+            report(base + done, work, message)
         return inner
 
     if start is not None:
@@ -370,19 +372,19 @@ def _pose_graph(pts: list[FloatArray], start: FloatArray | None, opts: _GraphOpt
         guess = np.eye(4) if start is None else np.linalg.inv(start[j]) @ start[i]
         z, fit = _register_pair(pts[i], pts[j], guess, opts, scaled(number * icp_work))
         moved = pts[i] @ z[:3, :3].T + z[:3, 3]
-        dist, idx = trees[j].query(moved, distance_upper_bound=opts.max_dist)
+        dist, idx = cast(KnnQuery, trees[j].query(moved, distance_upper_bound=opts.max_dist))
         idx = idx[np.isfinite(dist)]
         edges.append(_Edge(i, j, z, _information(pts[j][idx]), fit, int(idx.size),
                            odometry=sequential and j == i + 1,
                            kept=fit >= opts.min_fitness))
-        report((number + 1) * icp_work, total, f"pair {i}→{j}: fitness {fit:.3g}")
+        report((number + 1) * icp_work, work, f"pair {i}→{j}: fitness {fit:.3g}")
     _check_connected(k, edges, opts)
     poses = _spanning_tree_poses(k, [e for e in edges if e.kept])
     used = [e for e in edges if e.kept]
     mu = opts.preference * opts.max_dist ** 2 * float(np.mean([e.pairs for e in used]))
     base = len(pairs) * icp_work
     poses, its1, conv, reason = _levenberg_marquardt(poses, used, mu, opts, report, base,
-                                                     total)
+                                                     work)
     # Prune the loop closures the line process turned (nearly) off, then optimise again
     # (unless pruning would disconnect the graph).
     weak = [e for e in used if not e.odometry and
@@ -392,7 +394,7 @@ def _pose_graph(pts: list[FloatArray], start: FloatArray | None, opts: _GraphOpt
             e.kept = False
         used = [e for e in edges if e.kept]
         poses, its2, conv, reason = _levenberg_marquardt(poses, used, mu, opts, report,
-                                                         base + opts.max_iterations, total)
+                                                         base + opts.max_iterations, work)
         reason += f"; {len(weak)} loop closure{'s' if len(weak) > 1 else ''} pruned"
     else:
         its2 = 0
@@ -414,9 +416,10 @@ def _pose_graph(pts: list[FloatArray], start: FloatArray | None, opts: _GraphOpt
     )
 
 
-def _labels(k: int, edges: list[_Edge]) -> tuple[int, IntArray]:
-    graph = sp.coo_matrix((np.ones(len(edges)), ([e.i for e in edges], [e.j for e in edges])),
-                          shape=(k, k))
+def _labels(k: int, edges: list[_Edge]) -> tuple[int, NDArray[np.int32]]:
+    rows = np.array([e.i for e in edges], dtype=np.int64)
+    cols = np.array([e.j for e in edges], dtype=np.int64)
+    graph = sp.coo_matrix((np.ones(len(edges)), (rows, cols)), shape=(k, k))
     count, labels = connected_components(graph, directed=False)
     return int(count), labels
 
@@ -445,9 +448,9 @@ def _spanning_tree_poses(k: int, edges: list[_Edge]) -> FloatArray:
         key = (e.i, e.j)
         if key not in weight or e.fitness > weight[key].fitness:
             weight[key] = e
-    rows = [e.i for e in weight.values()]
-    cols = [e.j for e in weight.values()]
-    cost = [2.0 - e.fitness for e in weight.values()]   # > 0: zero means "no edge"
+    rows = np.array([e.i for e in weight.values()], dtype=np.int64)
+    cols = np.array([e.j for e in weight.values()], dtype=np.int64)
+    cost = np.array([2.0 - e.fitness for e in weight.values()])  # > 0: zero means "no edge"
     tree = minimum_spanning_tree(sp.coo_matrix((cost, (rows, cols)), shape=(k, k)))
     order, parent = breadth_first_order(tree + tree.T, 0, directed=False)
     poses = np.tile(np.eye(4), (k, 1, 1))
@@ -549,7 +552,7 @@ def _normal_equations(poses: FloatArray, edges: list[_Edge], mu: float, k: int
     return h, g
 
 
-def _agreement(pts: list[FloatArray], trees: list[cKDTree], poses: FloatArray,
+def _agreement(pts: list[FloatArray], trees: Sequence[cKDTree], poses: FloatArray,
                edges: list[_Edge], max_dist: float) -> tuple[FloatArray, FloatArray]:
     k = len(pts)
     partners: list[set[int]] = [set() for _ in range(k)]

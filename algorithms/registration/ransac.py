@@ -8,7 +8,7 @@ import heapq
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal, get_args
+from typing import Annotated, Any, Literal, cast, get_args
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -18,7 +18,7 @@ from algorithms.core.linalg import RANK_RTOL, numerical_rank, procrustes
 from algorithms.core.params import Ge, Gt, Interval, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import single_blas_thread
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 from algorithms.registration._normals import estimate_normals
 from algorithms.registration.features import (
@@ -439,9 +439,9 @@ def ransac(
 
     # per-point queries: threads change the speed, never the result
     workers = -1 if src.shape[0] >= PARALLEL_FROM else 1
-    dist, _ = dst_tree.query(
+    dist, _ = cast(KnnQuery, dst_tree.query(
         src @ transform[:d, :d].T + transform[:d, d], distance_upper_bound=tau * (1 + 1e-9),
-        workers=workers)
+        workers=workers))
     inl = dist[dist <= tau]
     rmse = math.sqrt(float(inl @ inl) / inl.size) if inl.size else 0.0
     if not converged:
@@ -502,7 +502,8 @@ def _pass(src: FloatArray, dst: FloatArray, dst_tree: cKDTree, voxel: float | No
     if tau is None and features == "none" and voxel is None:
         # small sets: half the typical gap to the nearest point, so that an inlier is
         # unambiguous (a radius of several gaps would let wrong samples score as well)
-        gap = float(np.median(s_tree.query(s_pts, k=2)[0][:, 1]))
+        nearest, _ = cast(KnnQuery, s_tree.query(s_pts, k=2))
+        gap = float(np.median(nearest[:, 1]))
         tau = NEAREST_FACTOR * gap if gap > 0.0 else DISTANCE_FACTOR * scale
     tau = DISTANCE_FACTOR * scale if tau is None else tau
     radius = FEATURE_RADIUS_FACTOR * scale if radius is None else radius
@@ -757,8 +758,8 @@ class _PointSearch(_Search):
     def score(self, rot: FloatArray, shift: FloatArray) -> tuple[FloatArray, IntArray]:
         h, k = rot.shape[0], self.scored.shape[0]
         moved = np.einsum("hij,mj->hmi", rot, self.scored) + shift[:, None, :]
-        dist, _ = self.tree.query(moved.reshape(h * k, -1),
-                                  distance_upper_bound=self.tau * (1 + 1e-9))
+        dist, _ = cast(KnnQuery, self.tree.query(moved.reshape(h * k, -1),
+                                                 distance_upper_bound=self.tau * (1 + 1e-9)))
         dist = dist.reshape(h, k)
         inside = dist <= self.tau
         err = np.where(inside, dist * dist, self.tau * self.tau).sum(axis=1)
@@ -767,7 +768,8 @@ class _PointSearch(_Search):
     def ratio(self, rot: FloatArray, shift: FloatArray, inliers: int) -> float:
         moved = self.scored @ rot.T + shift
         pairs = self.tree.query_ball_point(moved, self.tau, return_length=True).sum()
-        return float(pairs) / (self.scored.shape[0] * self.t_pts.shape[0])
+        candidates: int = self.scored.shape[0] * self.t_pts.shape[0]
+        return float(pairs) / candidates
 
 
 # --- sampling -------------------------------------------------------------------------------
@@ -884,13 +886,15 @@ def _refine(src: FloatArray, t_pts: FloatArray, t_normals: FloatArray | None,
         """The truncated error of the refinement's own metric: sum over the source points of
         min(r², τ²), r the distance (or plane distance) to the nearest target point."""
         moved = pts @ transform[:d, :d].T + transform[:d, d]
-        dist, idx = tree.query(moved, distance_upper_bound=tau * (1 + 1e-9), workers=workers)
+        dist, idx = cast(KnnQuery, tree.query(moved, distance_upper_bound=tau * (1 + 1e-9),
+                                              workers=workers))
         near = dist <= tau
         r = dist[near]
         if normals is not None:
             k = idx[near]
             r = np.einsum("ij,ij->i", moved[near] - t_pts[k], normals[k])
-        return float(r @ r) + tau * tau * (pts.shape[0] - r.size)
+        n_pts: int = pts.shape[0]
+        return float(r @ r) + tau * tau * (n_pts - r.size)
 
     try:
         with warnings.catch_warnings():
