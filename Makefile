@@ -11,7 +11,7 @@ export MORPHSERVE_DATA_DIR
 PYTEST_ARGS ?=
 GLTF_VALIDATOR := tools/gltf-validator
 
-.PHONY: serve test openapi bench clean
+.PHONY: serve test lint openapi bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -35,7 +35,13 @@ $(VENV)/.installed-test: pyproject.toml $(GLTF_VALIDATOR)/package-lock.json | $(
 serve: $(VENV)/.installed
 	$(BIN)/morphserve serve --host $(HOST) --port $(PORT) --data-dir $(MORPHSERVE_DATA_DIR)
 
-test: $(VENV)/.installed-test
+# Lint and types first (seconds): ruff (pyflakes, pycodestyle, import order, bugbear ...)
+# and mypy (strict for algorithms/ and morphserve/), both configured in pyproject.toml.
+lint: $(VENV)/.installed-test
+	$(BIN)/ruff check .
+	$(BIN)/mypy
+
+test: lint
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
 
 openapi: $(VENV)/.installed

@@ -28,8 +28,8 @@ for _p in (str(ROOT), str(ROOT / "bench")):
         sys.path.insert(0, _p)
 
 import igl  # noqa: E402  libigl: the peer (its LSCM)
-
 from _common import timed_pair, wavy_grid  # noqa: E402
+
 from algorithms.parameterization import abf  # noqa: E402
 from algorithms.parameterization._disk import read_disk  # noqa: E402
 from algorithms.parameterization._quality import quality  # noqa: E402
@@ -59,7 +59,8 @@ def case_abf(repeats: int, quick: bool) -> list[tuple[str, ...]]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             t_o, ours, t_p, peer = timed_pair(lambda v=v, f=f: abf((v, f)),
-                                              lambda v=v, f=f, p=pins: igl.lscm(v, f, p, bc)[0],
+                                              lambda v=v, f=f, p=pins, bc=bc:
+                                              igl.lscm(v, f, p, bc)[0],
                                               repeats)
         rows.append((label, f"{t_o:.3f}", f"{t_p:.3f}", f"{t_o / t_p:.2f}",
                      _figures(v, f, ours.uv) + f" / {ours.iterations} it.",

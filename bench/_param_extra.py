@@ -33,8 +33,8 @@ for _p in (str(ROOT), str(ROOT / "bench")):
         sys.path.insert(0, _p)
 
 import igl  # noqa: E402  libigl: the peer (SLIM, harmonic)
-
 from _common import timed_pair, wavy_grid  # noqa: E402
+
 from algorithms.parameterization import stretch_minimizing  # noqa: E402
 from algorithms.parameterization._disk import read_disk  # noqa: E402
 from algorithms.parameterization._quality import quality  # noqa: E402

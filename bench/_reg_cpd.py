@@ -25,10 +25,10 @@ import warnings
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
-
 from _common import angle_deg as _angle  # bench/ is on the path (run by registration.py)
 from _common import blob as _blob
+from scipy.spatial.transform import Rotation
+
 from algorithms.registration import cpd
 
 __all__ = ["case_cpd"]

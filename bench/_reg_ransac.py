@@ -29,10 +29,11 @@ from scipy.spatial.transform import Rotation
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from algorithms.registration import ransac  # noqa: E402
 from _common import angle_deg as _angle_deg  # noqa: E402
 from _common import blob as _blob  # noqa: E402
 from _common import timed, timed_pair  # noqa: E402
+
+from algorithms.registration import ransac  # noqa: E402
 
 VOXEL = 0.05
 NOISE = 0.005

@@ -11,9 +11,9 @@ Both sides start from the points: the peer's time includes building its cost mat
 Cases: bipartite 2,000 × 2,000 vs scipy ``linear_sum_assignment``; exact optimal transport
 1,000 × 1,000 with uniform masses (our assignment path) and with random masses (POT's network
 simplex under our layer) vs POT ``ot.emd``; Sinkhorn 500 × 500 at reg 0.05 vs POT
-``ot.sinkhorn2`` in the log domain; nearest for 1,000,000 query points vs ``cKDTree(...).query(workers=-1)``; distance
-(Chamfer/Hausdorff) 200,000 × 200,000 vs two ``cKDTree`` queries. A benchmark never
-asserts.
+``ot.sinkhorn2`` in the log domain; nearest for 1,000,000 query points vs
+``cKDTree(...).query(workers=-1)``; distance (Chamfer/Hausdorff) 200,000 × 200,000 vs two
+``cKDTree`` queries. A benchmark never asserts.
 """
 
 from __future__ import annotations
@@ -33,15 +33,15 @@ ROOT = Path(__file__).resolve().parents[1]
 # the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
+import ot  # noqa: E402 - POT: the optimal transport peer (and our exact path's simplex)
+from _common import print_ratio_table, timed  # noqa: E402
+
 from algorithms.assignment import (  # noqa: E402
     bipartite,
     distance,
     nearest,
     optimal_transport,
 )
-from _common import print_ratio_table, timed  # noqa: E402
-
-import ot  # POT: the optimal transport peer (and the network simplex our exact path calls)
 
 
 def points(seed: int, n: int, d: int) -> np.ndarray:

@@ -38,11 +38,11 @@ ROOT = Path(__file__).resolve().parents[1]
 # the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from algorithms.core.laplacian import cotangent_laplacian  # noqa: E402
-from algorithms.deformation import ArapSolver, biharmonic, harmonic  # noqa: E402
+import igl  # noqa: E402  libigl: the peer
 from _common import backend_timings, print_table, timed_pair, wavy_grid  # noqa: E402
 
-import igl  # noqa: E402  libigl: the peer
+from algorithms.core.laplacian import cotangent_laplacian  # noqa: E402
+from algorithms.deformation import ArapSolver, biharmonic, harmonic  # noqa: E402
 
 
 def handles(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -34,17 +34,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from algorithms.core import ConvergenceWarning  # noqa: E402
-from algorithms.embedding import (  # noqa: E402
-    isomap,
-    laplacian_eigenmaps,
-    lle,
-    mds,
-    pca,
-    trustworthiness,
-)
 from _common import print_ratio_table, timed_pair  # noqa: E402
-
 from scipy.spatial import procrustes  # noqa: E402
 from sklearn.datasets import load_digits, make_swiss_roll  # noqa: E402
 from sklearn.decomposition import PCA  # noqa: E402
@@ -54,6 +44,16 @@ from sklearn.manifold import (  # noqa: E402
     Isomap,
     LocallyLinearEmbedding,
     SpectralEmbedding,
+)
+
+from algorithms.core import ConvergenceWarning  # noqa: E402
+from algorithms.embedding import (  # noqa: E402
+    isomap,
+    laplacian_eigenmaps,
+    lle,
+    mds,
+    pca,
+    trustworthiness,
 )
 
 warnings.simplefilter("ignore", ConvergenceWarning)

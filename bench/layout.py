@@ -36,12 +36,12 @@ ROOT = Path(__file__).resolve().parents[1]
 # the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
+import igl  # noqa: E402
+from _common import print_ratio_table, timed  # noqa: E402
+from sklearn.manifold import ClassicalMDS, smacof  # noqa: E402
+
 from algorithms.core import ConvergenceWarning  # noqa: E402
 from algorithms.layout import laplacian, mds, stress  # noqa: E402
-from _common import print_ratio_table, timed  # noqa: E402
-
-import igl  # noqa: E402
-from sklearn.manifold import ClassicalMDS, smacof  # noqa: E402
 
 warnings.simplefilter("ignore", ConvergenceWarning)
 

@@ -32,6 +32,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
+import igl  # noqa: E402  libigl: the peer
+from _common import print_table, timed_pair, wavy_grid  # noqa: E402
+
 from algorithms.parameterization import conformal, harmonic  # noqa: E402
 from algorithms.parameterization._disk import read_disk  # noqa: E402
 from algorithms.parameterization._local_global import (  # noqa: E402
@@ -42,9 +45,6 @@ from algorithms.parameterization._local_global import (  # noqa: E402
 )
 from algorithms.parameterization._quality import face_frames, jacobians, quality  # noqa: E402
 from algorithms.parameterization.conformal import farthest_boundary_pair  # noqa: E402
-from _common import print_table, timed_pair, wavy_grid  # noqa: E402
-
-import igl  # noqa: E402  libigl: the peer
 
 
 def figures(v: np.ndarray, f: np.ndarray, uv: np.ndarray) -> str:

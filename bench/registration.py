@@ -10,7 +10,8 @@ of --repeats runs.
 Cases: ICP point_to_point, 100,000 ↔ 100,000 points (two independent samplings of a lumpy
 closed surface, the target turned by 10° and shifted, 0.2% noise), 30 iterations, against a
 plain numpy + ``cKDTree`` loop (query with ``workers=-1``, Kabsch by SVD, compose); both with
-the same correspondence bound. Open3D's ``registration_icp`` is the reference peer; it is not installed in the test environment (it needs the ``bench`` extra and
+the same correspondence bound. Open3D's ``registration_icp`` is the reference peer; it is
+not installed in the test environment (it needs the ``bench`` extra and
 ``libusb-1.0-0``), and its row is printed only when ``import open3d`` works. A benchmark never
 asserts.
 """
@@ -29,8 +30,9 @@ from scipy.spatial.transform import Rotation
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from algorithms.registration import icp  # noqa: E402
 from _common import angle_deg, blob, print_ratio_table, timed, timed_pair  # noqa: E402
+
+from algorithms.registration import icp  # noqa: E402
 
 ITERATIONS = 30
 ANGLE = 10.0

@@ -2,7 +2,8 @@
 
 Prints three tables, every time the median of --repeats runs on the same data:
 
-1. assembly on a 50,176-vertex mesh (ours and the peer called alternately): our cotangent Laplacian vs ``igl.cotmatrix`` (we return
+1. assembly on a 50,176-vertex mesh (ours and the peer called alternately): our cotangent
+   Laplacian vs ``igl.cotmatrix`` (we return
    ``L = D - W``, libigl ``W - D``: the accuracy column is ``max |ours + igl|``), our mass
    matrices vs ``igl.massmatrix`` (``max |ours - igl|``); ratio = ours / igl (below 1: we are
    faster);
@@ -32,13 +33,13 @@ ROOT = Path(__file__).resolve().parents[1]
 # the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
+import igl  # noqa: E402  libigl: the peer
+from _common import backend_timings, print_table, timed_pair, wavy_grid  # noqa: E402
+
 from algorithms.core.laplacian import cotangent_laplacian, mass_matrix  # noqa: E402
 from algorithms.core.linalg import batched_rotations, procrustes  # noqa: E402
 from algorithms.core.linsolve import Factor  # noqa: E402
 from algorithms.core.mesh import boundary_loops  # noqa: E402
-from _common import backend_timings, print_table, timed_pair, wavy_grid  # noqa: E402
-
-import igl  # noqa: E402  libigl: the peer
 
 
 def assembly(v: np.ndarray, f: np.ndarray, r: int) -> None:
@@ -81,7 +82,8 @@ def rotations(n: int, r: int) -> None:
     print_table(f"3. ARAP local step, {n:,} 3×3 matrices (median of {r})",
                 ("case", "ours (ms)", "svd (ms)", "ratio", "max abs diff"),
                 [("batched_rotations vs np.linalg.svd + reflection fix", f"{ours_t * 1e3:.1f}",
-                  f"{peer_t * 1e3:.1f}", f"{ours_t / peer_t:.2f}", f"{abs(ours - peer).max():.1e}")])
+                  f"{peer_t * 1e3:.1f}", f"{ours_t / peer_t:.2f}",
+                  f"{abs(ours - peer).max():.1e}")])
 
 
 def main() -> None:

@@ -16,8 +16,8 @@ import os
 import time
 from collections.abc import AsyncIterator, Callable, Generator, Iterable, Iterator, Mapping
 from dataclasses import dataclass
-from pathlib import Path
 from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
 from types import TracebackType
 from typing import Any, Generic, TypeVar, cast
 from urllib.parse import quote, unquote
@@ -652,7 +652,8 @@ class Client(_ClientBase):
         **inputs
             The inputs of the process: numpy arrays (from 1,024 numbers sent as typed
             binary arrays, bit-exact; from 1 MiB, also as members of a mesh, as ``.npy``
-            parts of a multipart request, which the service accepts fastest), numbers, strings, lists and dicts; ``trimesh`` meshes (as
+            parts of a multipart request, which the service accepts fastest), numbers,
+            strings, lists and dicts; ``trimesh`` meshes (as
             ``{vertices, faces}``) and point clouds (their points); and geometry files —
             a ``pathlib.Path``, or a string naming an existing ``.ply``, ``.obj``, ``.stl``,
             ``.off``, ``.glb`` or ``.npy`` file — uploaded as they are (multipart).

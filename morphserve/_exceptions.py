@@ -163,7 +163,7 @@ class APIError(MorphserveError):
     def __init__(
         self,
         status: int,
-        type: str,
+        type: str,  # noqa: A002 - the problem+json member's name (RFC 9457)
         title: str,
         detail: str = "",
         *,

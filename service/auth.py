@@ -125,7 +125,8 @@ class KeyRing:
 def owner_of(scope_or_request: Any) -> str:
     """The owner a request was authenticated as ("" on an open service)."""
     scope = getattr(scope_or_request, "scope", scope_or_request)
-    return scope.get(_SCOPE_KEY, "")
+    owner: str = scope.get(_SCOPE_KEY, "")
+    return owner
 
 
 class AuthMiddleware:

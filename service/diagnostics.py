@@ -3,7 +3,8 @@
 Offered only when the setting ``test_processes`` is on (``MORPHSERVE_TEST_PROCESSES=1``):
 ``diagnostics.sleep`` works for a while and reports progress (cancellation, time limits,
 progress reporting), ``diagnostics.nap`` is the same on the fast path (a fast-path job that
-outlasts its client's wait), ``diagnostics.crash`` kills the worker process running it (worker loss).
+outlasts its client's wait), ``diagnostics.crash`` kills the worker process running it
+(worker loss).
 """
 
 from __future__ import annotations

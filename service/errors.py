@@ -19,18 +19,17 @@ Each type is a page the service serves at ``/problems/{slug}``.
 from __future__ import annotations
 
 import html
-import re
 import logging
+import re
 from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import HTMLResponse
-
-from service.jsonio import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from algorithms.core.errors import GeometryError
+from service.jsonio import JSONResponse
 from service.problems import (
     PROBLEMS,
     ProblemType,

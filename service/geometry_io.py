@@ -34,9 +34,10 @@ from __future__ import annotations
 
 import io
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import PurePosixPath
-from typing import Any, Callable
+from typing import Any
 from urllib.parse import urlsplit
 
 import numpy as np
@@ -156,7 +157,9 @@ def parse_multipart(body: bytes | bytearray, content_type: str, *, max_input_byt
         "on_headers_finished": on_headers_finished, "on_part_data": on_part_data,
         "on_part_end": on_part_end, "on_end": on_end})
     try:
-        parser.write(body)
+        # python_multipart annotates `bytes`, but it only indexes, slices and searches the
+        # data (and hands it to the callbacks above), all of which a bytearray supports
+        parser.write(body)  # type: ignore[arg-type]
         parser.finalize()
     except ServiceError:
         raise
@@ -266,7 +269,8 @@ def _load_npy(data: bytes | bytearray | memoryview) -> np.ndarray:
     elif version == (2, 0):
         shape, fortran, dtype = npy_format.read_array_header_2_0(stream)
     else:  # other versions: numpy's own reader
-        return np.load(io.BytesIO(data), allow_pickle=False)
+        loaded: np.ndarray = np.load(io.BytesIO(data), allow_pickle=False)
+        return loaded
     if dtype.hasobject:
         raise ValueError("Object arrays cannot be loaded when allow_pickle=False")
     count = int(np.prod(shape, dtype=np.int64))
@@ -304,7 +308,9 @@ def _load_geometry(upload: Upload, fmt: str, max_glb_bytes: int) -> Any:
         raise InvalidInputError(f"The part `{name}` could not be read as {fmt.upper()}: "
                                 f"{type(exc).__name__}: {exc}", field=name) from None
     if isinstance(loaded, trimesh.Scene):
-        geometries = list(loaded.dump()) if loaded.geometry else []
+        # trimesh's Geometry base declares no `vertices`; every kind a file loads as
+        # (Trimesh, PointCloud, Path) has them
+        geometries: list[Any] = list(loaded.dump()) if loaded.geometry else []
         if not geometries:
             raise InvalidInputError(f"The {fmt.upper()} part `{name}` holds no geometry.",
                                     field=name)

@@ -183,7 +183,8 @@ class _Writer:
 
 def _num(x: Any) -> float | int:
     """A numpy scalar as a JSON number (float32 widens to float64 exactly)."""
-    return x.item() if isinstance(x, np.generic) else x
+    value: float | int = x.item() if isinstance(x, np.generic) else x
+    return value
 
 
 def _err(message: str, field: str) -> InvalidInputError:
@@ -675,7 +676,8 @@ def label_colors(labels: Any) -> np.ndarray:
         # Small label values: colour each value once, then index (no sort of n labels).
         codes = np.maximum(arr.astype(np.int64), -1)
         table = np.vstack([_NOISE_GREY, _palette(np.arange(int(codes.max(initial=0)) + 1))])
-        return table[codes + 1]
+        colors: np.ndarray = table[codes + 1]
+        return colors
     if arr.dtype.kind in "iu":  # large label values: colour each distinct one
         values, inverse = np.unique(arr, return_inverse=True)
         table = np.empty((values.shape[0], 3))

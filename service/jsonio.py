@@ -23,7 +23,7 @@ from starlette.responses import Response
 __all__ = ["loads", "dumps", "JSONResponse"]
 
 
-def loads(raw: bytes) -> Any:
+def loads(raw: bytes | bytearray) -> Any:
     """Parse a request body; raises ``ValueError`` with the position of the error."""
     try:
         return orjson.loads(raw)

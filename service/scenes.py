@@ -78,7 +78,8 @@ def _seconds(times: Any, duration: float = 2.0) -> np.ndarray | None:
     t = np.asarray(times, dtype=np.float64).ravel()
     if len(t) < 2 or not np.all(np.diff(t) > 0):
         return None
-    return (t - t[0]) * (duration / (t[-1] - t[0]))
+    seconds: np.ndarray = (t - t[0]) * (duration / (t[-1] - t[0]))
+    return seconds
 
 
 def _unit_square(uv: Any) -> np.ndarray:
@@ -86,7 +87,8 @@ def _unit_square(uv: Any) -> np.ndarray:
     uv = np.asarray(uv, dtype=np.float64)
     lo = uv.min(axis=0)
     span = float((uv.max(axis=0) - lo).max()) or 1.0
-    return (uv - lo) / span
+    unit: np.ndarray = (uv - lo) / span
+    return unit
 
 
 def animation(outputs: Outputs, inputs: Inputs, name: str) -> bytes:

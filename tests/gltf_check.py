@@ -7,8 +7,8 @@ skip.
 from __future__ import annotations
 
 import json
-import struct
 import shutil
+import struct
 import subprocess
 import sys
 from pathlib import Path

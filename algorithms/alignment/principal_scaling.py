@@ -78,7 +78,8 @@ def principal_scaling(
     with weighted centroids :math:`\bar x, \bar y` and centred points :math:`\tilde x_i,
     \tilde y_i`. This function computes exactly that (the weights enter unnormalised, so
     that all-ones weights give :math:`\tilde Y \tilde X^\mathsf{T}`), with the reflection
-    fix of :func:`~algorithms.alignment.rigid`. It is **not** a least-squares fit in general; see Notes.
+    fix of :func:`~algorithms.alignment.rigid`. It is **not** a least-squares fit in general;
+    see Notes.
 
     Parameters
     ----------
@@ -140,9 +141,9 @@ def principal_scaling(
 
     References
     ----------
-    .. [1] S. Umeyama, "Least-squares estimation of transformation parameters between two point patterns",
-       IEEE TPAMI 13(4), 376-380, 1991: the same cross-covariance, whose rotation factor is
-       the rigid fit.
+    .. [1] S. Umeyama, "Least-squares estimation of transformation parameters between two
+       point patterns", IEEE TPAMI 13(4), 376-380, 1991: the same cross-covariance, whose
+       rotation factor is the rigid fit.
 
     Examples
     --------

@@ -64,7 +64,7 @@ def _lloyd(x: FloatArray, centers: FloatArray, x_sq: FloatArray, max_iterations:
     scale = float(np.mean(np.var(x, axis=0))) or 1.0
     converged = False
     it = 0
-    for it in range(1, max_iterations + 1):
+    for it in range(1, max_iterations + 1):  # noqa: B007 - `it` is read after the loop
         d = _sq_dist(x, centers, x_sq)
         labels = np.argmin(d, axis=1)
         counts = np.bincount(labels, minlength=k)

@@ -47,10 +47,9 @@ from algorithms.core.validation import (
     fmt_shape,
 )
 
-__all__ = ["Graph", "as_graph", "edge_graph", "knn_graph", "radius_graph", "weight", "graph_from_pairs",
-           "neighbour_graph", "check_n_neighbors", "check_connected", "Neighbors",
-           "GraphWeighting", "NEIGHBORS",
-           "WEIGHTINGS", "MAX_COMPLETE"]
+__all__ = ["Graph", "as_graph", "edge_graph", "knn_graph", "radius_graph", "weight",
+           "graph_from_pairs", "neighbour_graph", "check_n_neighbors", "check_connected",
+           "Neighbors", "GraphWeighting", "NEIGHBORS", "WEIGHTINGS", "MAX_COMPLETE"]
 
 Neighbors = Literal["knn", "radius", "all"]
 """How the point-cloud methods build their neighbour graph: each point joined to its
@@ -256,7 +255,8 @@ def edge_graph(n: int, edges: Any, weights: Any = None, *, name: str = "edges") 
         if bad.any():
             row = int(np.argmax(bad))
             raise InvalidInputError(
-                f"Expected `weights` to hold finite numbers, got {float(w[row])!r} at position {row}.",
+                f"Expected `weights` to hold finite numbers, got {float(w[row])!r} at "
+                f"position {row}.",
                 field="weights")
     return graph_from_pairs(n, e[:, 0], e[:, 1], w)
 

@@ -397,7 +397,8 @@ def as_bool(value: Any, *, name: str) -> bool:
     """Check a flag: only ``True``/``False`` (Python or numpy) are accepted, never the
     truthiness of a string or number (``"false"`` would otherwise mean ``True``)."""
     if not isinstance(value, (bool, np.bool_)):
-        raise InvalidInputError(f"Expected `{name}` to be true or false, got {value!r}.", field=name)
+        raise InvalidInputError(f"Expected `{name}` to be true or false, got {value!r}.",
+                                field=name)
     return bool(value)
 
 

@@ -21,11 +21,11 @@ import numpy as np
 from pydantic import PlainSerializer, PlainValidator, ValidationInfo, WithJsonSchema
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.mesh import Handles as HandlesData
-from algorithms.core.params import Kind
-from algorithms.core.mesh import Mesh, as_handles, as_mesh
-from algorithms.core.validation import as_points
 from algorithms.core.graphs import Graph, as_graph
+from algorithms.core.mesh import Handles as HandlesData
+from algorithms.core.mesh import Mesh, as_handles, as_mesh
+from algorithms.core.params import Kind
+from algorithms.core.validation import as_points
 
 __all__ = ["Points", "Weights", "Labels", "points_schema", "MeshInput", "Handles",
            "HandlesInput", "GraphInput", "mesh_schema", "handles_schema", "KIND_TYPES"]
@@ -60,7 +60,8 @@ def _validate_weights(value: Any, info: ValidationInfo) -> np.ndarray:
 
 
 def _tolist(a: np.ndarray) -> list[Any]:
-    return a.tolist()
+    values: list[Any] = a.tolist()
+    return values
 
 
 Points = Annotated[

@@ -86,7 +86,8 @@ def _nullable_list(a: np.ndarray) -> list[Any]:
 
 
 def _tolist(a: np.ndarray) -> list[Any]:
-    return a.tolist()
+    values: list[Any] = a.tolist()
+    return values
 
 
 DistanceMatrix = Annotated[

@@ -21,7 +21,8 @@ from service.catalog.inputs import points_schema
 from service.catalog.registry import Process, registry
 
 # A tetrahedron-like asymmetric set and the same turned by 10° about z and shifted by (0.1, 0, 0)
-_SOURCE = [[0, 0, 0], [2, 0, 0], [0, 1, 0], [0, 0, 0.5], [1, 1, 0.2], [0.5, 0.2, 0.4]]
+_SOURCE: list[list[float]] = [[0, 0, 0], [2, 0, 0], [0, 1, 0], [0, 0, 0.5], [1, 1, 0.2],
+                              [0.5, 0.2, 0.4]]
 _C, _S = float(np.cos(np.radians(10.0))), float(np.sin(np.radians(10.0)))
 _TARGET = [[round(_C * x - _S * y + 0.1, 12), round(_S * x + _C * y, 12), z]
            for x, y, z in _SOURCE]

@@ -149,7 +149,20 @@ def _scalar_union(decl: Declaration, hint: Any) -> Any:
     'auto', got 'fast'.") where pydantic would report each member under its own tag
     (``learning_rate.constrained-float``); its JSON Schema is the union's."""
     return Annotated[Any, PlainValidator(decl.check),
-                     WithJsonSchema(TypeAdapter(hint).json_schema())]
+                     WithJsonSchema(_enum_not_const(TypeAdapter(hint).json_schema()))]
+
+
+def _enum_not_const(schema: Any) -> Any:
+    """A single choice as ``enum: [x]``, not ``const: x``: OpenAPI 3.0's schema objects, which
+    the OGC process description uses, have no ``const``."""
+    if isinstance(schema, dict):
+        out = {k: _enum_not_const(v) for k, v in schema.items() if k != "const"}
+        if "const" in schema:
+            out["enum"] = [schema["const"]]
+        return out
+    if isinstance(schema, list):
+        return [_enum_not_const(v) for v in schema]
+    return schema
 
 
 _FIELD_BOUNDS = {Ge: "ge", Gt: "gt", Le: "le", Lt: "lt"}
@@ -205,7 +218,10 @@ def build_inputs(process_id: str, function: Callable[..., Any], *,
         kwargs.update(_limit_kwargs(name, limits[name]) if name in limits else {})
         default = ... if decl.required else decl.default
         fields[name] = (hint, Field(default, **kwargs))
-    validators = {}
+    # pydantic annotates __validators__ as dict[str, Callable], but what it documents
+    # there are decorated validators: descriptor proxies, which are not callable (its
+    # successor __namespace__, a dict[str, Any], needs pydantic 2.14; we allow 2.6)
+    validators: dict[str, Any] = {}
     if check is not None:
         def _checked(self: BaseModel) -> BaseModel:
             check(self)

@@ -65,7 +65,7 @@ class WarmUp(WorkerPlugin):
 class _Handle:
     job: JobRecord
     outcome: asyncio.Future[Outcome]
-    future: Future | None = None
+    future: Future[Outcome] | None = None
     """The Dask future; None on the fast path."""
     cancel: threading.Event = field(default_factory=threading.Event)
     """The fast path's dismissal flag."""
@@ -139,7 +139,9 @@ class Engine:
         if self.client is not None:
             await self.client.close()
         if self.cluster is not None:
-            await self.cluster.close()
+            closing = self.cluster.close()  # None only for a synchronous cluster: never here
+            if closing is not None:
+                await closing
 
     def _spawn(self, coro: Any) -> asyncio.Task[Any]:
         task = asyncio.get_running_loop().create_task(coro)
@@ -374,7 +376,8 @@ class Engine:
             now = time.monotonic()
             for handle in list(self._jobs.values()):
                 limit = handle.job.time_limit
-                if handle.recording or handle.started is None or limit is None or now - handle.started < limit + GRACE:
+                if (handle.recording or handle.started is None or limit is None
+                        or now - handle.started < limit + GRACE):
                     continue
                 log.warning("job %s ignored its time limit of %g s; stopping it",
                             handle.job.id, limit)

@@ -82,14 +82,17 @@ class Spool:
             # every chunk waiting is written by one writev: this thread takes the GIL once
             # for them all (one write call per chunk waited up to the interpreter's switch
             # interval each time, and fell tens of milliseconds behind the body)
-            chunks = [self._queue.get()]
-            while len(chunks) < _IOV_MAX:
+            chunks: list[bytes] = []
+            item = self._queue.get()
+            while item is not None:  # None (from _stop) ends the body: no chunk follows it
+                chunks.append(item)
+                if len(chunks) == _IOV_MAX:
+                    break
                 try:
-                    chunks.append(self._queue.get_nowait())
+                    item = self._queue.get_nowait()
                 except queue.Empty:
                     break
-            if chunks[-1] is None:
-                chunks.pop()
+            else:
                 done = True
             if self._error is not None or not chunks:
                 continue

@@ -72,14 +72,14 @@ def _unwrap(value: Any) -> Any:
     return value
 
 
-def _json_body(raw: bytes, what: str = "The body") -> Any:
+def _json_body(raw: bytes | bytearray, what: str = "The body") -> Any:
     try:
         return jsonio.loads(raw) if raw and not raw.isspace() else {}  # strip() copies
     except (ValueError, UnicodeDecodeError) as exc:
         raise ServiceError("malformed-body", f"{what} is not valid JSON: {exc}.") from None
 
 
-def _multipart_body(process: Process, raw: bytes, content_type: str, st: State,
+def _multipart_body(process: Process, raw: bytes | bytearray, content_type: str, st: State,
                     identify: bool) -> tuple[Any, bytes]:
     """The execute request of a multipart body, its uploads decoded into its inputs, and,
     when ``identify`` (an Idempotency-Key came with it), the bytes that identify it (the

@@ -14,7 +14,6 @@ from typing import Any, TypeVar
 import httpx
 import numpy as np
 import pytest
-from tests.sdk.test_client import RESULTS, FakeServer, FakeTerminal, problem
 
 from morphserve import (
     APIError,
@@ -29,6 +28,7 @@ from morphserve import (
     TransportError,
     WaitTimeout,
 )
+from tests.sdk.test_client import RESULTS, FakeServer, FakeTerminal, problem
 
 T = TypeVar("T")
 

@@ -10,10 +10,10 @@ import asyncio
 import re
 import time
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pytest
-from tests.live import free_port
 from scipy.spatial.transform import Rotation
 
 from morphserve import (
@@ -34,12 +34,16 @@ from morphserve import (
     TransportError,
     WaitTimeout,
 )
+from tests.live import free_port
 
 pytestmark = pytest.mark.e2e
 
 #: A sleep long enough never to end during a test, in slices short enough (0.01 s) that a
 #: dismissal stops it at once and frees its worker for the other tests.
 LONG_SLEEP = {"seconds": 60, "steps": 6000}
+
+if TYPE_CHECKING:
+    import trimesh
 
 
 @pytest.fixture
@@ -197,7 +201,7 @@ def test_empty_assignment_pairs_keep_their_shape(client: Client) -> None:
         assert points[results["pairs"][:, 0]].shape == (0, 2)  # as for any non-empty answer
 
 
-def _disk() -> "trimesh.Trimesh":
+def _disk() -> trimesh.Trimesh:
     import trimesh
 
     x, y = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 5))
@@ -234,10 +238,9 @@ def test_large_arrays_travel_as_npy_parts(client: Client) -> None:
     """Arrays of 1 MiB and more go as .npy parts of a multipart request (inputs and members
     of a mesh); the service gets them bit-exact: the results equal those of the same job
     sent as typed binary arrays, and the in-process method's."""
-    from morphserve._models import NPY_ABOVE, split_npy_parts
-
     from algorithms.alignment import rigid
     from algorithms.parameterization import tutte
+    from morphserve._models import NPY_ABOVE, split_npy_parts
 
     rng = np.random.default_rng(5)
     X = rng.normal(size=(NPY_ABOVE // 24 + 10, 3))

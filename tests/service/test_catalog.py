@@ -123,8 +123,10 @@ _SCHEMA_TYPES = {"array", "boolean", "integer", "null", "number", "object", "str
 
 
 def _check_json_schema(s: Any, where: str) -> None:
-    """A structural check of the JSON Schema keywords the catalog uses."""
+    """A structural check of the JSON Schema keywords the catalog uses (those of OpenAPI 3.0's
+    schema object, which the OGC process description uses: no `const`)."""
     assert isinstance(s, dict), where
+    assert "const" not in s, where
     if "type" in s:
         types = s["type"] if isinstance(s["type"], list) else [s["type"]]
         assert types and set(types) <= _SCHEMA_TYPES, (where, s["type"])

@@ -13,8 +13,9 @@ from typing import Any
 
 import numpy as np
 import pytest
-from tests.live import free_port, wait_for_status
 from scipy.spatial.transform import Rotation
+
+from tests.live import free_port, wait_for_status
 
 pytestmark = pytest.mark.e2e
 

@@ -483,10 +483,11 @@ def test_dask_scheduler_command_is_accepted_by_the_dask_cli() -> None:
 
 def test_worker_command_becomes_a_valid_dask_worker_command_line() -> None:
     """`morphserve worker ...` execs `dask worker ...`: the options it forwards must parse too."""
-    from service import cli
     import click
     from dask.utils import parse_bytes
     from distributed.cli.dask_worker import main as dask_worker
+
+    from service import cli
 
     argv = command_argv(compose_services()["worker"], "worker")
     args = cli.build_parser().parse_args(argv[1:])

@@ -12,9 +12,9 @@ from pathlib import Path
 
 import httpx
 import pytest
-from tests.live import REPO, LiveServer, wait_for_status
 
 from morphserve import Client, NoSuchJob, Unauthorized
+from tests.live import REPO, LiveServer, wait_for_status
 
 pytestmark = pytest.mark.e2e
 

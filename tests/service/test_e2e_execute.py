@@ -7,8 +7,9 @@ import time
 
 import numpy as np
 import pytest
-from tests.live import wait_for_status
 from scipy.spatial.transform import Rotation
+
+from tests.live import wait_for_status
 
 pytestmark = pytest.mark.e2e
 

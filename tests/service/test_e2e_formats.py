@@ -12,10 +12,10 @@ from typing import Any
 import numpy as np
 import pytest
 import trimesh
-from tests.gltf_check import glb_with, problems, validate
 from scipy.spatial.transform import Rotation
 
 from service.gltf import read_glb
+from tests.gltf_check import glb_with, problems, validate
 
 pytestmark = pytest.mark.e2e
 

@@ -8,6 +8,7 @@ import signal
 import time
 
 import pytest
+
 from tests.live import wait_for_status
 
 pytestmark = pytest.mark.e2e

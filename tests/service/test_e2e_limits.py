@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+
 from tests.live import LiveServer, wait_for_status
 
 pytestmark = pytest.mark.e2e

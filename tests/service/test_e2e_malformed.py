@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 import pytest
-from tests.gltf_check import glb_with
 
 from service.gltf import mesh_glb
+from tests.gltf_check import glb_with
 
 pytestmark = pytest.mark.e2e
 

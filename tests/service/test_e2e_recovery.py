@@ -11,8 +11,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from tests.live import REPO, LiveServer, free_port, wait_for_status
 from scipy.spatial.transform import Rotation
+
+from tests.live import REPO, LiveServer, free_port, wait_for_status
 
 pytestmark = [pytest.mark.e2e, pytest.mark.slow]
 

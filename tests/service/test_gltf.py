@@ -18,7 +18,6 @@ import trimesh
 from scipy.spatial.distance import pdist
 
 from algorithms.core.errors import InvalidInputError
-from tests.gltf_check import glb_with, validate
 from service.gltf import (
     check_glb,
     label_colors,
@@ -27,6 +26,7 @@ from service.gltf import (
     read_glb,
     scene_glb,
 )
+from tests.gltf_check import glb_with, validate
 
 FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
 

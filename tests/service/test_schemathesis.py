@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from tests.live import REPO, LiveServer
 
 pytestmark = [pytest.mark.e2e, pytest.mark.slow]

@@ -247,7 +247,8 @@ def test_agrees_with_scipy_align_vectors_and_least_squares():
         np.testing.assert_allclose(res.rotation, rot.as_matrix(), atol=1e-10)
 
         # a generic solver on (log s, rotation vector, t) from a perturbed start
-        def resid(v: np.ndarray) -> np.ndarray:
+        def resid(v: np.ndarray, x: np.ndarray = x, y: np.ndarray = y,
+                  w: np.ndarray = w) -> np.ndarray:
             r = Rotation.from_rotvec(v[1:4]).as_matrix()
             return ((np.exp(v[0]) * x @ r.T + v[4:] - y) * np.sqrt(w)[:, None]).ravel()
 

@@ -65,8 +65,8 @@ def test_each_step_uses_the_previous_lengths():
     e = np.concatenate([v[f[:, a]] - v[f[:, b]] for a, b in ((1, 2), (2, 0), (0, 1))])
     ep = np.concatenate([x[f[:, a]] - x[f[:, b]] for a, b in ((1, 2), (2, 0), (0, 1))])
     s = np.tile(res.scales, 3)
-    l = np.linalg.norm(ep, axis=1) / np.linalg.norm(e, axis=1)
-    by_hand = np.sum((ep - s[:, None] * e) ** 2) + 0.5 * np.sum((ep - l[:, None] * e) ** 2)
+    ratio = np.linalg.norm(ep, axis=1) / np.linalg.norm(e, axis=1)
+    by_hand = np.sum((ep - s[:, None] * e) ** 2) + 0.5 * np.sum((ep - ratio[:, None] * e) ** 2)
     assert res.energy[-1] == pytest.approx(by_hand, rel=1e-9, abs=1e-15)
     again = isotropic_scaling((v, f), {"indices": idx, "positions": pos}, tolerance=1e-12,
                               max_iterations=2001, regularization=0.5)

@@ -19,11 +19,10 @@ from scipy.special import logsumexp, softmax
 from algorithms.core import Cancelled, ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.registration import CPDResult, cpd
 from algorithms.registration.cpd import _kernel, _low_rank, _Posterior
-
-cpd_mod = sys.modules["algorithms.registration.cpd"]
-
 from tests.algorithms.registration._real_meshes import real_mesh
 from tests.algorithms.registration._shapes import angle_deg, bent_bar, blob, move, rotation_about
+
+cpd_mod = sys.modules["algorithms.registration.cpd"]
 
 
 def quiet(*args, **kw) -> CPDResult:  # noqa: ANN002, ANN003
