@@ -128,3 +128,20 @@ def test_flat_sets_are_degenerate():
     line2 = np.array([[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]])
     res = multiway([line2, line2 @ np.array([[0.0, -1.0], [1.0, 0.0]]).T])
     np.testing.assert_allclose(res.rotations[1], [[0, 1], [-1, 0]], atol=1e-12)
+
+
+def test_the_dispatcher_declares_what_its_methods_declare():
+    """multiway repeats the parameters of generalized_procrustes and pose_graph in its own
+    signature: each shared one has the same type, bounds and default there (no drift)."""
+    from algorithms.core.params import declarations
+
+    mine = declarations(multiway)
+    shared = 0
+    for method in (generalized_procrustes, pose_graph):
+        for name, decl in declarations(method).items():
+            if name in mine and name != "sets":
+                shared += 1
+                assert (mine[name].scalars, mine[name].kind, mine[name].optional,
+                        mine[name].default) == (decl.scalars, decl.kind, decl.optional,
+                                                decl.default), (method.__name__, name)
+    assert shared == 14
