@@ -12,7 +12,16 @@ from scipy.sparse.csgraph import connected_components
 
 from algorithms.clustering._kmeans import canonical_labels
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
-from algorithms.core.graphs import GraphWeighting, Neighbors, as_graph, edge_graph, neighbour_graph
+from algorithms.core.graphs import (
+    GraphWeighting,
+    HeatWidth,
+    Neighbors,
+    NNeighbors,
+    Radius,
+    as_graph,
+    edge_graph,
+    neighbour_graph,
+)
 from algorithms.core.params import Ge, GraphLike, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
@@ -57,10 +66,10 @@ def markov(
     *,
     graph: GraphLike | None = None,
     neighbors: Neighbors = "knn",
-    n_neighbors: Annotated[int, Ge(1)] = 10,
-    radius: Annotated[float, Gt(0)] | None = None,
+    n_neighbors: NNeighbors = 10,
+    radius: Radius | None = None,
     weighting: GraphWeighting = "uniform",
-    sigma: Annotated[float, Gt(0)] | None = None,
+    sigma: HeatWidth | None = None,
     expansion: Annotated[int, Ge(2)] = 2,
     inflation: Annotated[float, Gt(1)] = 2.0,
     self_loops: Annotated[float, Ge(0)] = 1.0,

@@ -14,9 +14,16 @@ from scipy.sparse.linalg import eigsh
 
 from algorithms.clustering._kmeans import kmeans
 from algorithms.core.errors import InvalidInputError, warn
-from algorithms.core.graphs import GraphWeighting, Neighbors, neighbour_graph
+from algorithms.core.graphs import (
+    GraphWeighting,
+    HeatWidth,
+    Neighbors,
+    NNeighbors,
+    Radius,
+    neighbour_graph,
+)
 from algorithms.core.laplacian import normalized_laplacian
-from algorithms.core.params import Ge, Gt, PointsLike, Seed, validate_params
+from algorithms.core.params import Ge, PointsLike, Seed, validate_params
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_int, as_points
 
@@ -66,10 +73,10 @@ def spectral(
     *,
     n_clusters: Annotated[int, Ge(1)] = 8,
     neighbors: Neighbors = "knn",
-    n_neighbors: Annotated[int, Ge(1)] = 10,
-    radius: Annotated[float, Gt(0)] | None = None,
+    n_neighbors: NNeighbors = 10,
+    radius: Radius | None = None,
     weighting: GraphWeighting = "uniform",
-    sigma: Annotated[float, Gt(0)] | None = None,
+    sigma: HeatWidth | None = None,
     n_init: Annotated[int, Ge(1)] = 10,
     seed: Seed = 0,
 ) -> SpectralClusteringResult:

@@ -27,7 +27,7 @@ from __future__ import annotations
 import typing
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -36,6 +36,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist, squareform
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
+from algorithms.core.params import Ge, Gt
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import (
     as_choice,
@@ -49,8 +50,16 @@ from algorithms.core.validation import (
 
 __all__ = ["Graph", "as_graph", "edge_graph", "knn_graph", "radius_graph", "weight",
            "graph_from_pairs", "neighbour_graph", "check_n_neighbors", "check_connected",
-           "Neighbors", "GraphWeighting", "NEIGHBORS", "WEIGHTINGS", "MAX_COMPLETE"]
+           "Neighbors", "GraphWeighting", "NNeighbors", "Radius", "HeatWidth", "NEIGHBORS",
+           "WEIGHTINGS", "MAX_COMPLETE"]
 
+NNeighbors = Annotated[int, Ge(1)]
+"""Neighbours per point of a ``"knn"`` graph (at most the number of points minus one: checked
+against the data by :func:`check_n_neighbors`)."""
+Radius = Annotated[float, Gt(0)]
+"""The radius of a ``"radius"`` graph, in the points' units."""
+HeatWidth = Annotated[float, Gt(0)]
+"""The width σ of the heat kernel exp(-d²/2σ²)."""
 Neighbors = Literal["knn", "radius", "all"]
 """How the point-cloud methods build their neighbour graph: each point joined to its
 ``n_neighbors`` nearest, to every point within ``radius``, or to every point."""

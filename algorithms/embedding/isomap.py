@@ -13,8 +13,8 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
-from algorithms.core.graphs import Neighbors, neighbour_graph
-from algorithms.core.params import Ge, Gt, PointsLike, validate_params
+from algorithms.core.graphs import Neighbors, NNeighbors, Radius, neighbour_graph
+from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import BoolArray, FloatArray, IntArray
 from algorithms.core.validation import as_int, as_points
@@ -77,8 +77,8 @@ def isomap(
     *,
     n_components: Annotated[int, Ge(1)] = 2,
     neighbors: Neighbors = "knn",
-    n_neighbors: Annotated[int, Ge(1)] = 5,
-    radius: Annotated[float, Gt(0)] | None = None,
+    n_neighbors: NNeighbors = 5,
+    radius: Radius | None = None,
     weighting: EdgeLength = "distance",
     quality_neighbors: Annotated[int, Ge(1)] = 5,
 ) -> IsomapResult:

@@ -12,9 +12,16 @@ import scipy.linalg as la
 import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
-from algorithms.core.graphs import GraphWeighting, Neighbors, neighbour_graph
+from algorithms.core.graphs import (
+    GraphWeighting,
+    HeatWidth,
+    Neighbors,
+    NNeighbors,
+    Radius,
+    neighbour_graph,
+)
 from algorithms.core.laplacian import laplacian as graph_laplacian
-from algorithms.core.params import Ge, Gt, PointsLike, validate_params
+from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_choice, as_int, as_points
 from algorithms.embedding._quality import fix_signs, trustworthiness
@@ -111,10 +118,10 @@ def laplacian_eigenmaps(
     *,
     n_components: Annotated[int, Ge(1)] = 2,
     neighbors: Neighbors = "knn",
-    n_neighbors: Annotated[int, Ge(1)] | None = None,
-    radius: Annotated[float, Gt(0)] | None = None,
+    n_neighbors: NNeighbors | None = None,
+    radius: Radius | None = None,
     weighting: GraphWeighting = "uniform",
-    sigma: Annotated[float, Gt(0)] | None = None,
+    sigma: HeatWidth | None = None,
     laplacian: Normalization = "random_walk",
     quality_neighbors: Annotated[int, Ge(1)] = 5,
 ) -> LaplacianEigenmapsResult:

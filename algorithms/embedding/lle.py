@@ -12,8 +12,8 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.graphs import check_connected, check_n_neighbors
-from algorithms.core.params import Ge, Gt, PointsLike, validate_params
+from algorithms.core.graphs import NNeighbors, Radius, check_connected, check_n_neighbors
+from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_int, as_points
 from algorithms.embedding._quality import fix_signs, trustworthiness
@@ -104,8 +104,8 @@ def lle(
     *,
     n_components: Annotated[int, Ge(1)] = 2,
     neighbors: Neighbourhood = "knn",
-    n_neighbors: Annotated[int, Ge(1)] = 5,
-    radius: Annotated[float, Gt(0)] | None = None,
+    n_neighbors: NNeighbors = 5,
+    radius: Radius | None = None,
     regularization: Annotated[float, Ge(0)] = 1e-3,
     quality_neighbors: Annotated[int, Ge(1)] = 5,
 ) -> LLEResult:
