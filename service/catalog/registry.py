@@ -232,6 +232,12 @@ def build_inputs(process_id: str, function: Callable[..., Any], *,
                         __validators__=validators, **fields)
 
 
+def references_text(function: Callable[..., Any]) -> str | None:
+    """A function's numpydoc References as one line: the entries joined by "; "."""
+    refs = [r.rstrip(".") for r in numpydoc_references(inspect.getdoc(function))]
+    return "; ".join(refs) + "." if refs else None
+
+
 def _kind_types() -> Mapping[Kind, Any]:
     from service.catalog.inputs import KIND_TYPES
 
@@ -283,7 +289,7 @@ class Process:
     result: type = field(init=False)
     """The result dataclass: the function's return annotation."""
     reference: str | None = field(init=False)
-    """The function's numpydoc References, joined."""
+    """The function's numpydoc References, joined (:func:`references_text`)."""
     outputs: dict[str, Output] = field(init=False)
     kinds: dict[str, Kind] = field(init=False)
     """The declared kind of each array input (points, mesh, shape …)."""
@@ -296,8 +302,7 @@ class Process:
         hints = typing.get_type_hints(inspect.unwrap(self.function))
         object.__setattr__(self, "result", hints["return"])
         object.__setattr__(self, "outputs", outputs_of(self.result))
-        refs = numpydoc_references(inspect.getdoc(self.function))
-        object.__setattr__(self, "reference", "; ".join(refs) or None)
+        object.__setattr__(self, "reference", references_text(self.function))
         decls = declarations(self.function)
         object.__setattr__(self, "kinds", {
             n: d.kind for n, d in decls.items()

@@ -25,6 +25,7 @@ from service.catalog.registry import (
     Registry,
     input_description,
     outputs_of,
+    references_text,
 )
 from service.diagnostics import diagnostics
 from service.docstrings import (
@@ -234,7 +235,8 @@ def test_entry_restates_nothing(p: Process) -> None:
         fields = [m for m in meta if isinstance(m, FieldInfo)]
         assert not fields, f"{p.id}: inputs[{name!r}] carries a Field (default/description)"
     refs = numpydoc_references(inspect.getdoc(p.function))
-    assert p.reference == ("; ".join(refs) or None), f"{p.id}: reference restated"
+    assert p.reference == references_text(p.function), f"{p.id}: reference restated"
+    assert all(r.rstrip(".") in (p.reference or "") for r in refs), p.id
     assert refs or p.id not in registry, f"{p.id}: a method cites its papers (References)"
     decls = declarations(p.function)
     for name in p.limits:
