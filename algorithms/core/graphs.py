@@ -45,6 +45,7 @@ from algorithms.core.validation import (
     as_int,
     as_points,
     as_weights,
+    check_keys,
     fmt_shape,
 )
 
@@ -128,14 +129,8 @@ def as_graph(graph: Any, *, name: str = "graph", max_nodes: int | None = None,
     if isinstance(graph, Graph):
         nodes, edges, weights = graph.n_nodes, graph.edges, graph.weights
     elif isinstance(graph, Mapping):
-        missing = [k for k in ("nodes", "edges") if k not in graph]
-        extra = sorted(str(k) for k in graph if k not in ("nodes", "edges", "weights"))
-        if missing or extra:
-            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
-                    else f"unknown key {', '.join(repr(k) for k in extra)}")
-            raise InvalidInputError(
-                f"Expected `{name}` to be an object with keys 'nodes', 'edges' and optionally "
-                f"'weights', got {what}.", field=name)
+        check_keys(graph, ("nodes", "edges"), ("weights",), name=name,
+                   expected="an object with keys 'nodes', 'edges' and optionally 'weights'")
         nodes, edges, weights = graph["nodes"], graph["edges"], graph.get("weights")
     else:
         raise InvalidInputError(

@@ -28,7 +28,7 @@ from scipy.sparse.csgraph import connected_components
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_indices, as_points
+from algorithms.core.validation import as_indices, as_points, check_keys
 
 __all__ = [
     "Mesh",
@@ -238,14 +238,8 @@ def read_mesh(mesh: Any, *, name: str = "mesh") -> Mesh:
     if isinstance(mesh, Mesh):
         return as_mesh(mesh.vertices, mesh.faces, name=name)
     if isinstance(mesh, Mapping):
-        missing = [k for k in ("vertices", "faces") if k not in mesh]
-        extra = sorted(str(k) for k in mesh if k not in ("vertices", "faces"))
-        if missing or extra:
-            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
-                    else f"an unknown key {', '.join(repr(k) for k in extra)}")
-            raise InvalidInputError(
-                f"Expected `{name}` to be an object with keys 'vertices' and 'faces', got "
-                f"{what}.", field=name)
+        check_keys(mesh, ("vertices", "faces"), name=name,
+                   expected="an object with keys 'vertices' and 'faces'")
         return as_mesh(mesh["vertices"], mesh["faces"], name=name)
     if isinstance(mesh, (tuple, list)) and len(mesh) == 2:
         return as_mesh(mesh[0], mesh[1], name=name)
@@ -285,14 +279,8 @@ def as_handles(handles: Any, mesh: Mesh | int | None, *, name: str = "handles") 
     if isinstance(handles, Handles):
         indices, positions = handles.indices, handles.positions
     elif isinstance(handles, Mapping):
-        missing = [k for k in ("indices", "positions") if k not in handles]
-        extra = sorted(str(k) for k in handles if k not in ("indices", "positions"))
-        if missing or extra:
-            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
-                    else f"unknown key {', '.join(repr(k) for k in extra)}")
-            raise InvalidInputError(
-                f"Expected `{name}` to be an object with keys 'indices' and 'positions', "
-                f"got {what}.", field=name)
+        check_keys(handles, ("indices", "positions"), name=name,
+                   expected="an object with keys 'indices' and 'positions'")
         indices, positions = handles["indices"], handles["positions"]
     else:
         raise InvalidInputError(

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -43,6 +43,7 @@ __all__ = [
     "check_min_points",
     "same_shape",
     "same_dim",
+    "check_keys",
     "fmt_shape",
     "MAX_DENSE_POINTS",
     "check_dense_size",
@@ -257,6 +258,21 @@ def same_shape(a: np.ndarray, b: np.ndarray, *, names: tuple[str, str]) -> None:
             f"{fmt_shape(a.shape)}, got {fmt_shape(b.shape)}."
         )
     raise InvalidInputError(msg, field=second)
+
+
+def check_keys(value: Mapping[Any, Any], required: Sequence[str], optional: Sequence[str] = (),
+               *, name: str, expected: str) -> None:
+    """Raise unless the mapping ``value`` (an object as JSON delivers it) has every key of
+    ``required`` and none but those and ``optional``: "Expected `mesh` to be an object with
+    keys 'vertices' and 'faces', got missing 'faces'." (or "got unknown key 'normals'");
+    ``expected`` is the part after "to be"."""
+    missing = [k for k in required if k not in value]
+    extra = sorted(str(k) for k in value if k not in required and k not in optional)
+    if missing or extra:
+        what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
+                else f"unknown key{'s' if len(extra) > 1 else ''} "
+                     f"{', '.join(repr(k) for k in extra)}")
+        raise InvalidInputError(f"Expected `{name}` to be {expected}, got {what}.", field=name)
 
 
 def same_dim(a: np.ndarray, b: np.ndarray, *, names: tuple[str, str]) -> None:

@@ -32,7 +32,7 @@ from scipy.spatial.transform import Rotation
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_mesh
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
-from algorithms.core.validation import MAX_COORDINATE, as_indices, as_points
+from algorithms.core.validation import MAX_COORDINATE, as_indices, as_points, check_keys
 
 __all__ = [
     "DEFAULT_TIMES",
@@ -186,14 +186,8 @@ def read_shape(shape: Any, *, name: str, need_faces: bool = False,
     if isinstance(shape, Mesh):
         shape = {"vertices": shape.vertices, "faces": shape.faces}
     if isinstance(shape, Mapping):
-        missing = [k for k in ("vertices", "faces") if k not in shape]
-        extra = sorted(str(k) for k in shape if k not in ("vertices", "faces"))
-        if missing or extra:
-            what = (f"missing {', '.join(repr(k) for k in missing)}" if missing
-                    else f"an unknown key {extra[0]!r}")
-            raise InvalidInputError(
-                f"Expected `{name}` to be an object with keys 'vertices' and 'faces', got "
-                f"{what}.", field=name)
+        check_keys(shape, ("vertices", "faces"), name=name,
+                   expected="an object with keys 'vertices' and 'faces'")
         faces = shape["faces"]
         try:
             width = np.shape(faces)[1] if np.ndim(faces) == 2 else None

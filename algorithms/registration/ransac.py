@@ -193,8 +193,8 @@ def ransac(
        nearest neighbour in feature space, mutually with ``mutual_filter``.
        ``features="none"``: every (source point, target point) pair is a candidate and
        samples are drawn from each set independently (see Notes).
-    3. **Hypotheses.** Each draws :math:`s = \max(3, d)` candidate pairs with the seeded
-       generator and is skipped unless every edge of the sample and of its image agree
+    3. **Hypotheses.** Each draws :math:`s = \max(3, d)` candidate pairs with the generator
+       seeded by ``seed`` and is skipped unless every edge of the sample and of its image agree
        within a factor 0.9 (Open3D's edge-length checker) and the sample is not nearly
        collinear; the rest get the Kabsch fit :math:`(R, t)` of their pairs, are skipped
        unless every sampled pair then lies within ``max_correspondence_distance``

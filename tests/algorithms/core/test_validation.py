@@ -361,3 +361,18 @@ def test_errors_are_value_errors_and_pickle_with_field():
     back = pickle.loads(pickle.dumps(err))
     assert type(back) is DegenerateInputError and back.field == "source"
     assert str(back) == "Expected x, got y."
+
+
+def test_check_keys_names_what_is_missing_or_unknown():
+    from algorithms.core.validation import check_keys
+
+    expected = "an object with keys 'a' and 'b'"
+    check_keys({"a": 1, "b": 2, "c": 3}, ("a", "b"), ("c",), name="x", expected=expected)
+    with pytest.raises(InvalidInputError, match=r"^Expected `x` to be an object with keys 'a' "
+                       r"and 'b', got missing 'b'\.$") as info:
+        check_keys({"a": 1, "z": 0}, ("a", "b"), name="x", expected=expected)
+    assert info.value.field == "x"  # missing keys first, before unknown ones
+    with pytest.raises(InvalidInputError, match=r"got unknown key 'z'\.$"):
+        check_keys({"a": 1, "b": 2, "z": 0}, ("a", "b"), name="x", expected=expected)
+    with pytest.raises(InvalidInputError, match=r"got unknown keys 'y', 'z'\.$"):
+        check_keys({"a": 1, "b": 2, "z": 0, "y": 0}, ("a", "b"), name="x", expected=expected)
