@@ -21,25 +21,32 @@ def numpydoc_section(doc: str | None, title: str) -> dict[str, str]:
     return {n: desc for n, (_, desc) in numpydoc_entries(doc, title).items()}
 
 
-def numpydoc_entries(doc: str | None, title: str) -> dict[str, tuple[str, str]]:
-    """Like :func:`numpydoc_section`, with each entry's type as written (``(n, d) float
-    array, optional``) beside its description."""
+def _section(doc: str | None, title: str) -> list[str]:
+    """The lines of the numpydoc section ``title`` (below its underline, up to the next
+    section's title), or none."""
     if not doc:
-        return {}
+        return []
     lines = inspect.cleandoc(doc).splitlines()
     try:
         start = next(i for i, ln in enumerate(lines)
                      if ln.strip() == title and i + 1 < len(lines)
                      and set(lines[i + 1].strip()) == {"-"})
     except StopIteration:
-        return {}
+        return []
     body = lines[start + 2:]
-    out: dict[str, tuple[str, list[str]]] = {}
-    names: list[str] = []
     for i, ln in enumerate(body):
         nxt = body[i + 1].strip() if i + 1 < len(body) else ""
         if ln.strip() and not ln.startswith(" ") and nxt and set(nxt) == {"-"}:
-            break  # the title of the next section
+            return body[:i]
+    return body
+
+
+def numpydoc_entries(doc: str | None, title: str) -> dict[str, tuple[str, str]]:
+    """Like :func:`numpydoc_section`, with each entry's type as written (``(n, d) float
+    array, optional``) beside its description."""
+    out: dict[str, tuple[str, list[str]]] = {}
+    names: list[str] = []
+    for ln in _section(doc, title):
         m = re.match(r"^(\w+(?:\s*,\s*\w+)*)\s*(?::\s*(.*))?$", ln)
         if m and not ln.startswith(" ") and ln.strip():
             names = [n.strip() for n in m.group(1).split(",")]
@@ -135,20 +142,8 @@ def plain(text: str) -> str:
 def numpydoc_references(doc: str | None) -> list[str]:
     """The entries of a numpydoc ``References`` section (``.. [1] A. Author, "Title", ...``),
     each joined into one line of plain text, in order."""
-    if not doc:
-        return []
-    lines = inspect.cleandoc(doc).splitlines()
-    try:
-        start = next(i for i, ln in enumerate(lines)
-                     if ln.strip() == "References" and i + 1 < len(lines)
-                     and set(lines[i + 1].strip()) == {"-"})
-    except StopIteration:
-        return []
     refs: list[list[str]] = []
-    for i, ln in enumerate(lines[start + 2:], start + 2):
-        nxt = lines[i + 1].strip() if i + 1 < len(lines) else ""
-        if ln.strip() and not ln.startswith(" ") and nxt and set(nxt) == {"-"}:
-            break  # the title of the next section
+    for ln in _section(doc, "References"):
         m = re.match(r"^\.\. \[[^\]]+\]\s*(.*)$", ln)
         if m:
             refs.append([m.group(1).strip()])

@@ -27,7 +27,7 @@ from algorithms.core.mesh import Mesh, as_handles, as_mesh
 from algorithms.core.params import Kind
 from algorithms.core.validation import as_points
 
-__all__ = ["Points", "Weights", "Labels", "points_schema", "MeshInput", "Handles",
+__all__ = ["max_points", "Points", "Weights", "Labels", "points_schema", "MeshInput", "Handles",
            "HandlesInput", "GraphInput", "mesh_schema", "handles_schema", "KIND_TYPES"]
 
 
@@ -39,9 +39,14 @@ def points_schema(description: str, *, dim: int | None = None,
     return {"type": "array", "items": row, "minItems": min_points, "description": description}
 
 
+def max_points(info: ValidationInfo) -> int | None:
+    """The service's limit of points per input, passed in the validation context."""
+    limit = (info.context or {}).get("max_points")
+    return None if limit is None else int(limit)
+
+
 def _validate_points(value: Any, info: ValidationInfo) -> np.ndarray:
-    max_points = (info.context or {}).get("max_points")
-    return as_points(value, name=info.field_name or "points", max_points=max_points)
+    return as_points(value, name=info.field_name or "points", max_points=max_points(info))
 
 
 def _validate_weights(value: Any, info: ValidationInfo) -> np.ndarray:
@@ -139,8 +144,7 @@ def _validate_mesh(value: Any, info: ValidationInfo) -> Mesh:
     if isinstance(value, Mesh):
         value = {"vertices": value.vertices, "faces": value.faces}
     vertices, faces = _object_members(value, name, ("vertices", "faces"))
-    max_points = (info.context or {}).get("max_points")
-    return as_mesh(vertices, faces, name=name, max_vertices=max_points)
+    return as_mesh(vertices, faces, name=name, max_vertices=max_points(info))
 
 
 def _validate_handles(value: Any, info: ValidationInfo) -> HandlesData:
@@ -202,8 +206,7 @@ def _graph_schema(description: str) -> dict[str, Any]:
 
 
 def _validate_graph(value: Any, info: ValidationInfo) -> Graph:
-    max_points = (info.context or {}).get("max_points")
-    return as_graph(value, name=info.field_name or "graph", max_nodes=max_points)
+    return as_graph(value, name=info.field_name or "graph", max_nodes=max_points(info))
 
 
 def _graph_json(g: Graph) -> dict[str, Any]:

@@ -27,7 +27,7 @@ from algorithms.interpolation import (
 )
 from algorithms.interpolation.rigid import split_similarity
 from service import scenes
-from service.catalog.inputs import Points, points_schema
+from service.catalog.inputs import Points, max_points, points_schema
 from service.catalog.registry import Process, registry
 
 # A 4 × 1 strip in the plane (ten vertices, eight triangles) ...
@@ -75,8 +75,7 @@ def _shape(value: Any, info: ValidationInfo, need_faces: bool) -> Mesh | np.ndar
         raise InvalidInputError(
             f"Expected `{name}` to be a mesh {{vertices, faces}}, got "
             f"{type(value).__name__}.", field=name)
-    max_points = (info.context or {}).get("max_points")
-    v, f = read_shape(value, name=name, max_points=max_points,
+    v, f = read_shape(value, name=name, max_points=max_points(info),
                       allow_degenerate=name != "source")
     if isinstance(value, dict):
         return Mesh(v, f)

@@ -24,7 +24,7 @@ from algorithms.layout import (
     stress,
 )
 from service import scenes
-from service.catalog.inputs import Points
+from service.catalog.inputs import Points, max_points
 from service.catalog.registry import Process, registry
 
 
@@ -67,8 +67,8 @@ PinsInput = Annotated[
 
 
 def _max_dense(info: ValidationInfo) -> int:
-    limit = (info.context or {}).get("max_points")
-    return MAX_DENSE_POINTS if limit is None else min(MAX_DENSE_POINTS, int(limit))
+    limit = max_points(info)
+    return MAX_DENSE_POINTS if limit is None else min(MAX_DENSE_POINTS, limit)
 
 
 def _validate_distances(value: Any, info: ValidationInfo) -> np.ndarray:

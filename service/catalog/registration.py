@@ -17,7 +17,7 @@ from algorithms.registration.multiway import check_sets, check_transforms, multi
 from algorithms.registration.pose_graph import check_neighbors
 from algorithms.registration.ransac import check_inputs
 from service import scenes
-from service.catalog.inputs import points_schema
+from service.catalog.inputs import max_points, points_schema
 from service.catalog.registry import Process, registry
 
 # A tetrahedron-like asymmetric set and the same turned by 10° about z and shifted by (0.1, 0, 0)
@@ -67,8 +67,8 @@ def _validate_point_sets(value: Any, info: ValidationInfo) -> list[np.ndarray]:
     if not isinstance(value, (list, tuple)):
         raise InvalidInputError(f"Expected `{name}` to be a list of (n, d) point arrays, got "
                                 f"{type(value).__name__}.", field=name)
-    max_points = (info.context or {}).get("max_points")
-    return [as_points(v, name=f"{name}[{i}]", max_points=max_points)
+    limit = max_points(info)
+    return [as_points(v, name=f"{name}[{i}]", max_points=limit)
             for i, v in enumerate(value)]
 
 

@@ -43,6 +43,7 @@ from pydantic import (
 
 from algorithms.core.params import Declaration, Kind, declarations
 from service.catalog.base import Params
+from service.catalog.inputs import KIND_TYPES
 from service.docstrings import numpydoc_entries, numpydoc_references, numpydoc_section, plain
 
 __all__ = ["Process", "Output", "Registry", "registry", "input_description", "outputs_of",
@@ -238,12 +239,6 @@ def references_text(function: Callable[..., Any]) -> str | None:
     return "; ".join(refs) + "." if refs else None
 
 
-def _kind_types() -> Mapping[Kind, Any]:
-    from service.catalog.inputs import KIND_TYPES
-
-    return KIND_TYPES
-
-
 @dataclass(frozen=True)
 class Process:
     """One method of the catalog, offered as one OGC process.
@@ -297,7 +292,7 @@ class Process:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "params", build_inputs(
-            self.id, self.function, kinds=_kind_types(), inputs=self.inputs,
+            self.id, self.function, kinds=KIND_TYPES, inputs=self.inputs,
             examples=self.examples, limits=self.limits, hidden=self.hidden, check=self.check))
         hints = typing.get_type_hints(inspect.unwrap(self.function))
         object.__setattr__(self, "result", hints["return"])
