@@ -50,9 +50,9 @@ from algorithms.core.validation import (
 )
 
 __all__ = ["Graph", "as_graph", "edge_graph", "knn_graph", "radius_graph", "weight",
-           "graph_from_pairs", "neighbour_graph", "check_n_neighbors", "check_connected",
-           "Neighbors", "GraphWeighting", "NNeighbors", "Radius", "HeatWidth", "NEIGHBORS",
-           "WEIGHTINGS", "MAX_COMPLETE"]
+           "graph_from_pairs", "neighbour_graph", "check_neighbour_params", "check_n_neighbors",
+           "check_connected", "Neighbors", "GraphWeighting", "NNeighbors", "Radius",
+           "HeatWidth", "NEIGHBORS", "WEIGHTINGS", "MAX_COMPLETE"]
 
 NNeighbors = Annotated[int, Ge(1)]
 """Neighbours per point of a ``"knn"`` graph (at most the number of points minus one: checked
@@ -413,6 +413,19 @@ def weight(adjacency: Any, kind: Literal["uniform", "distance", "heat"] = "unifo
     return g
 
 
+def check_neighbour_params(n: int, neighbors: str, n_neighbors: Any, radius: Any, *,
+                           name: str = "points") -> None:
+    """What a ``"knn"`` or ``"radius"`` graph of ``n`` points needs from its parameters:
+    ``n_neighbors`` that fits them (when given: some methods choose it themselves), and a
+    ``radius``. The one check of :func:`neighbour_graph`, the methods that build their own
+    graphs, and the service's checks before a job is queued."""
+    if neighbors == "knn" and n_neighbors is not None:
+        check_n_neighbors(n, n_neighbors, name=name)
+    if neighbors == "radius" and radius is None:
+        raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
+                                field="radius")
+
+
 def check_n_neighbors(n: int, n_neighbors: Any, *, name: str = "points") -> int:
     """Check ``n_neighbors`` for a kNN graph of ``n`` points and return it as an ``int``.
 
@@ -550,9 +563,7 @@ def neighbour_graph(points: Any, *, neighbors: str, n_neighbors: Any = None,
     if neighbors == "knn":
         g = knn_graph(x, check_n_neighbors(n, n_neighbors, name=name), name=name)
     elif neighbors == "radius":
-        if radius is None:
-            raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
-                                    field="radius")
+        check_neighbour_params(n, neighbors, n_neighbors, radius, name=name)
         g = radius_graph(x, as_float(radius, name="radius", minimum=0.0, inclusive=False),
                          name=name)
     else:

@@ -7,7 +7,7 @@ from typing import Any
 
 from algorithms.clustering import markov, spectral
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.graphs import check_n_neighbors
+from algorithms.core.graphs import check_neighbour_params
 from algorithms.core.params import Le
 from algorithms.core.validation import as_int, check_min_points
 from service import scenes
@@ -19,11 +19,7 @@ _TWO_GROUPS = [[0, 0], [0, 1], [1, 0], [1, 1], [10, 10], [10, 11], [11, 10], [11
 def _neighbour_graph(p: Any) -> None:
     """At least 2 points, and neighbour-graph parameters that fit them."""
     check_min_points(p.points, 2, name="points")
-    if p.neighbors == "knn":
-        check_n_neighbors(p.points.shape[0], p.n_neighbors)
-    if p.neighbors == "radius" and p.radius is None:
-        raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
-                                field="radius")
+    check_neighbour_params(p.points.shape[0], p.neighbors, p.n_neighbors, p.radius)
 
 
 def _clusters_fit(p: Any) -> None:

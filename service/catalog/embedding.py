@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.graphs import check_n_neighbors
+from algorithms.core.graphs import check_neighbour_params
 from algorithms.core.params import Le
 from algorithms.core.validation import as_int, check_dense_size, check_min_points
 from algorithms.embedding import (
@@ -68,11 +68,7 @@ def _dense(p: Any) -> None:
 def _graph(p: Any, minimum: int) -> int:
     check_min_points(p.points, minimum, name="points")
     n = int(p.points.shape[0])
-    if p.neighbors == "knn" and p.n_neighbors is not None:
-        check_n_neighbors(n, p.n_neighbors)
-    if p.neighbors == "radius" and p.radius is None:
-        raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
-                                field="radius")
+    check_neighbour_params(n, p.neighbors, p.n_neighbors, p.radius)
     return n
 
 

@@ -316,3 +316,16 @@ def test_check_connected(neighbors, field, hint):
                        rf"\({hint}, or embed each part on its own\)\.") as info:
         check_connected(split, neighbors=neighbors, method="isomap")
     assert info.value.field == field
+
+
+def test_check_neighbour_params():
+    from algorithms.core.graphs import check_neighbour_params
+
+    check_neighbour_params(5, "knn", None, None)  # a method that chooses n_neighbors itself
+    check_neighbour_params(5, "radius", None, 0.5)
+    check_neighbour_params(5, "all", None, None)
+    with pytest.raises(InvalidInputError, match=r"`radius` with neighbors='radius', got none"):
+        check_neighbour_params(5, "radius", 3, None)
+    with pytest.raises(InvalidInputError, match=r"n_neighbors") as info:
+        check_neighbour_params(5, "knn", 5, None)
+    assert info.value.field == "n_neighbors"
