@@ -29,7 +29,8 @@ class LDAResult:
     Attributes
     ----------
     embedding : (n, k) float array
-        The points projected on the ``k`` discriminant directions, centred on the
+        The points projected on the ``k`` discriminant directions (``k`` at most the rank
+        of the class means, see ``lda``'s Notes), centred on the
         prior-weighted mean of the class means; within-class covariance is the identity
         there. Each column's largest entry (in absolute value) is positive.
     scalings : (d, k) float array
@@ -46,7 +47,8 @@ class LDAResult:
     accuracy : float
         The fraction of points whose prediction is their label (training accuracy).
     explained_variance_ratio : (k,) float array
-        The share of the between-class variance along each direction.
+        The share of the between-class variance along each direction (one per column of
+        ``embedding``).
     query_embedding : (m, k) float array
         ``query`` projected likewise; ``(0, k)`` without a query.
     query_predictions : (m,) list
@@ -108,7 +110,8 @@ def lda(
         The class of each point (integers or strings); at least 2 classes.
     n_components : int, optional
         The number ``k`` of discriminant directions, ``1 <= k <= min(c - 1, d)`` for
-        ``c`` classes; that maximum when omitted.
+        ``c`` classes; that maximum when omitted. Fewer directions are returned when the
+        class means span fewer dimensions (see Notes).
     query : (m, d) float array, optional
         Points to project and classify with the fitted model; none when omitted (the
         query outputs are then empty).
@@ -135,6 +138,15 @@ def lda(
     the variance of the class means is as large as possible (classes spread apart) and
     each class's own variance as small as possible (classes gather). The ratio above is
     that criterion.
+
+    When the class means span fewer dimensions than ``n_components`` (4 classes whose means
+    lie in a plane of 3-D data: rank 2 although ``min(c - 1, d) = 3``), only the directions
+    that carry between-class variance are returned (singular values of the whitened class
+    means above ``1e-4`` of the largest), as scikit-learn's ``transform`` does: a further
+    direction would be arbitrary and its embedding column constant. ``embedding``,
+    ``scalings``, ``query_embedding`` and ``explained_variance_ratio`` then have that many
+    columns. (scikit-learn's ``explained_variance_ratio_`` keeps ``n_components`` entries,
+    the trailing ones below ``1e-8``.)
 
     References
     ----------
@@ -193,12 +205,9 @@ def lda(
     rank2 = int(np.sum(s2 > RANK_TOLERANCE * s2[0]))
     full = whiten @ vt2[:rank2].T                          # (d, rank2)
     full = _fix_signs_by_data(x - xbar, full)
+    k = min(k, rank2)  # as scikit-learn: only the directions that carry between-class rank
     ratio = (s2 ** 2 / np.sum(s2 ** 2))[:k]
-    if k > rank2:  # directions without between-class variance: zero columns
-        scalings = np.hstack([full, np.zeros((d, k - rank2))])
-        ratio = np.concatenate([ratio, np.zeros(k - ratio.shape[0])])[:k]
-    else:
-        scalings = full[:, :k]
+    scalings = full[:, :k]
     emb = (x - xbar) @ scalings
     nu = (means - xbar) @ full                             # whitened class means
     log_priors = np.log(priors)

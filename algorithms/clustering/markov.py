@@ -107,8 +107,10 @@ def markov(
         ``n_neighbors`` nearest (the union of the two directions), ``"radius"`` to every
         point within ``radius``, ``"all"`` to every point (at most 10,000 points).
     n_neighbors : int, default 10
-        Neighbours per point with ``neighbors="knn"``; at most the number of points minus
-        one.
+        Neighbours per point with ``neighbors="knn"``, other points only (MCL adds its own
+        self-loops; its reference implementations take a graph, not points, so there is
+        no peer count to follow, unlike :func:`spectral`'s); at most the number of points
+        minus one.
     radius : float, optional
         The radius with ``neighbors="radius"``, required there.
     weighting : {"uniform", "distance", "heat"}, default "uniform"

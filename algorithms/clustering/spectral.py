@@ -102,8 +102,9 @@ def spectral(
         (the union of the two directions), ``"radius"`` to every point within ``radius``,
         ``"all"`` to every point (at most 10,000 points).
     n_neighbors : int, default 10
-        Neighbours per point with ``neighbors="knn"``; at most the number of points minus
-        one.
+        Neighbours per point with ``neighbors="knn"``, the point itself counted among them
+        as scikit-learn's ``SpectralClustering`` counts it (``n_neighbors - 1`` other
+        points; ties by lower index); at most the number of points minus one.
     radius : float, optional
         The radius with ``neighbors="radius"``, required there.
     weighting : {"uniform", "distance", "heat"}, default "uniform"
@@ -177,7 +178,7 @@ def spectral(
     k = as_int(n_clusters, name="n_clusters", minimum=1, maximum=n,
                reason="the number of `points`")
     w = neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
-                        weighting=weighting, sigma=sigma)
+                        weighting=weighting, sigma=sigma, include_self=True)
     ncomp = int(connected_components(w, directed=False)[0])
     if ncomp > k:
         warn(f"The neighbour graph of `points` has {ncomp} connected components, "

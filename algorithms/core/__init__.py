@@ -13,6 +13,7 @@ from algorithms.core.graphs import (
     check_n_neighbors,
     edge_graph,
     knn_graph,
+    nearest_sorted,
     neighbour_graph,
     radius_graph,
     weight,
@@ -112,6 +113,7 @@ __all__ = [
     # graphs
     "edge_graph",
     "knn_graph",
+    "nearest_sorted",
     "radius_graph",
     "weight",
     "neighbour_graph",

@@ -405,8 +405,13 @@ def arap(
     The local step's rotations come from Horn's quaternion eigenproblem, solved for all
     vertices at once (:func:`~algorithms.core.linalg.batched_rotations`) to rounding, so
     the local step attains the exact block minimum; libigl's ``arap_solve`` runs the same
-    iterations with a single-precision SVD, and the two agree
-    to ~1e-5 of the displacement after 10 iterations. The energy never increasing is what
+    iterations with a single-precision SVD. Measured after 10 iterations (RMS of the
+    difference over RMS of the displacement, both energies): 2e-7 to 2.5e-5 on pyvista's
+    sphere (180 of 1,260 edges with negative cotangent weights), airplane (its largest
+    part: 165 of 1,544) and ant (31 of 192). Where many weights are strongly negative the
+    two can drift further apart while reaching the same energy: 5.4e-3 was reported with
+    ``"spokes"`` on pymeshlab's cow (2,804 of 17,412 negative), energies equal to 5e-5.
+    The energy never increasing is what
     guards against the "more iterations, worse result" reports (libigl issue 1539): there,
     the iterations were fine and the energy or the constraints were not what the user
     expected.

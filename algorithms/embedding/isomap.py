@@ -102,7 +102,10 @@ def isomap(
         nearest (either way round), ``"radius"`` every pair closer than ``radius``,
         ``"all"`` every pair (then Isomap is plain classical MDS).
     n_neighbors : int, default 5
-        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``.
+        Neighbours per point with ``neighbors="knn"`` (the point itself not counted, as
+        scikit-learn's ``Isomap``), at most ``n - 1``. Equidistant candidates are taken by
+        lower index (scikit-learn's choice among them varies with its search and thread
+        count: see :func:`algorithms.core.graphs.nearest_sorted`).
     radius : float, optional
         The radius with ``neighbors="radius"``, required there.
     weighting : {"distance", "uniform"}, default "distance"

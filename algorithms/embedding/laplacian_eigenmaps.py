@@ -45,13 +45,17 @@ def similarity_graph(x: FloatArray, neighbors: str, n_neighbors: Any, radius: fl
                      weighting: str, sigma: float | None, *, method: str) -> sp.csr_array:
     """The connected, weighted neighbourhood graph of the spectral embeddings (LE, LPP).
 
-    :func:`algorithms.core.graphs.neighbour_graph` with ``connected=method``; ``n_neighbors``
-    omitted is scikit-learn's ``SpectralEmbedding`` default, ``max(n // 10, 1)``.
+    :func:`algorithms.core.graphs.neighbour_graph` with ``connected=method``, each point
+    counted among its own ``n_neighbors`` as in scikit-learn's ``SpectralEmbedding``
+    (``kneighbors_graph(..., include_self=True)``); ``n_neighbors`` omitted is
+    ``max(n // 10, 2)``: scikit-learn's ``max(n // 10, 1)`` except below 20 points, where
+    1 would count the point alone and leave no edge.
     """
     if n_neighbors is None:
-        n_neighbors = max(x.shape[0] // 10, 1)
+        n_neighbors = max(x.shape[0] // 10, 2)
     return neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
-                           weighting=weighting, sigma=sigma, connected=method)
+                           weighting=weighting, sigma=sigma, connected=method,
+                           include_self=True)
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,8 +153,11 @@ def laplacian_eigenmaps(
         nearest (either way round), ``"radius"`` every pair closer than ``radius``,
         ``"all"`` every pair.
     n_neighbors : int, optional
-        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``;
-        ``max(n // 10, 1)`` when omitted (scikit-learn's default).
+        Neighbours per point with ``neighbors="knn"``, the point itself counted among them
+        as in scikit-learn's ``SpectralEmbedding`` (``n_neighbors - 1`` other points; ties
+        by lower index), at most ``n - 1``; ``max(n // 10, 2)`` when omitted
+        (scikit-learn's ``max(n // 10, 1)``, except that below 20 points 1 would leave
+        each point alone).
     radius : float, optional
         The radius with ``neighbors="radius"``, required there.
     weighting : {"uniform", "distance", "heat"}, default "uniform"
@@ -210,7 +217,7 @@ def laplacian_eigenmaps(
     --------
     >>> import numpy as np
     >>> x = np.c_[np.arange(6.0), np.zeros(6)]            # a path graph
-    >>> res = laplacian_eigenmaps(x, n_components=1, n_neighbors=1)
+    >>> res = laplacian_eigenmaps(x, n_components=1, n_neighbors=2)
     >>> bool(np.all(np.diff(res.embedding[:, 0]) < 0) or np.all(np.diff(res.embedding[:, 0]) > 0))
     True
     """

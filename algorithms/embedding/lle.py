@@ -12,7 +12,13 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.graphs import NNeighbors, Radius, check_connected, check_n_neighbors
+from algorithms.core.graphs import (
+    NNeighbors,
+    Radius,
+    check_connected,
+    check_n_neighbors,
+    nearest_sorted,
+)
 from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_int, as_points
@@ -129,7 +135,10 @@ def lle(
         The points each point is reconstructed from: ``"knn"`` its own ``n_neighbors``
         nearest (not symmetrised), ``"radius"`` all within ``radius``.
     n_neighbors : int, default 5
-        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``.
+        Neighbours per point with ``neighbors="knn"`` (the point itself not counted, as
+        scikit-learn's ``n_neighbors``), at most ``n - 1``. Equidistant candidates are
+        taken by lower index (scikit-learn's choice among them varies with its search
+        and thread count: see :func:`algorithms.core.graphs.nearest_sorted`).
     radius : float, optional
         The radius with ``neighbors="radius"``, required there; every point needs at
         least one neighbour within it.
@@ -209,11 +218,10 @@ def lle(
     tree = cKDTree(x)
     if neighbors == "knn":
         m = check_n_neighbors(n, n_neighbors)
-        _, idx = tree.query(x, k=m + 1)
-        idx = idx.reshape(n, m + 1)
-        own = idx == np.arange(n)[:, None]
-        own[~own.any(axis=1), -1] = True  # coincident points hid the point itself
-        nbrs: Any = idx[~own].reshape(n, m)
+        # the m + 1 nearest, ties by index, without the first (the point itself, or a
+        # coincident point of lower index): scikit-learn's barycenter_kneighbors_graph
+        _, idx = nearest_sorted(x, m + 1, tree=tree)
+        nbrs: Any = np.ascontiguousarray(idx[:, 1:])
     else:
         if radius is None:
             raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",

@@ -127,8 +127,10 @@ def lpp(
         nearest (either way round), ``"radius"`` every pair closer than ``radius``,
         ``"all"`` every pair.
     n_neighbors : int, optional
-        Neighbours per point with ``neighbors="knn"``, at most ``n - 1``;
-        ``max(n // 10, 1)`` when omitted (scikit-learn's default for spectral embedding).
+        Neighbours per point with ``neighbors="knn"``, the point itself counted among them
+        (``n_neighbors - 1`` other points), the graph of :func:`laplacian_eigenmaps` and
+        scikit-learn's ``SpectralEmbedding``; at most ``n - 1``; ``max(n // 10, 2)`` when
+        omitted.
     radius : float, optional
         The radius with ``neighbors="radius"``, required there.
     weighting : {"uniform", "distance", "heat"}, default "uniform"

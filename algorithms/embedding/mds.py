@@ -84,8 +84,10 @@ def mds(
     n_components : int, default 2
         The dimension ``k`` of the embedding, ``1 <= k <= n``.
     metric : bool, default False
-        False: classical MDS only. True: refine the classical embedding by SMACOF, which
-        minimises the raw stress (scikit-learn's ``MDS``).
+        False: classical MDS only (scikit-learn's ``ClassicalMDS``). True: refine the
+        classical embedding by SMACOF, which minimises the raw stress (scikit-learn's
+        ``MDS(metric=True)``). Not scikit-learn's flag of the same name: there ``False``
+        selects non-metric (ordinal) SMACOF, which this function does not offer.
     max_iterations : int, default 300
         Most SMACOF iterations; used only with ``metric=True`` (0 keeps the classical
         embedding).

@@ -624,7 +624,9 @@ def cpd(
         The most EM iterations.
     tolerance : float >= 0, default 1e-5
         Stop when the negative log-likelihood changes by less than this fraction in an
-        iteration.
+        iteration (the relative rule and default of Myronenko and Song's reference code;
+        pycpd's ``tolerance``, default 0.001, bounds the absolute change of its objective
+        instead, so the two stop at different iterations on the same input).
     progress : callable, optional
         ``progress(done, total, message)`` after every iteration (and during the low-rank
         set-up); it may raise :class:`~algorithms.core.errors.Cancelled` to stop the work.

@@ -262,7 +262,7 @@ def fpfh(
     1. **Normals**: the given ``normals``, or local PCA of the ``normal_neighbors`` nearest
        points, oriented consistently by :func:`orient_normals`.
     2. **SPFH** (simplified point feature histogram): for every neighbour :math:`p_j` of
-       :math:`p_i` within ``radius`` (at most ``max_neighbors``), the angles
+       :math:`p_i` within ``radius`` (at most ``max_neighbors - 1``), the angles
        :math:`(\theta, \alpha, \phi)` of the Darboux frame of the pair (Notes) are
        binned into three 11-bin histograms, each scaled to sum 100.
     3. **FPFH**: :math:`F(p_i) = S(p_i) + \operatorname{norm}\big(\sum_j w_{ij}
@@ -278,12 +278,16 @@ def fpfh(
         Neighbourhood radius, ``> 0``; 5 × :func:`point_spacing` when omitted (about 80
         neighbours on a surface, Open3D's tutorial choice of 5 voxels).
     max_neighbors : int, default 100
-        At most this many nearest neighbours within ``radius`` (Open3D's hybrid search).
+        At most this many nearest points within ``radius``, the point itself counted
+        among them, as Open3D's ``KDTreeSearchParamHybrid(radius, max_nn)`` counts it
+        (its hybrid search returns the query point first and FPFH skips it): at most
+        ``max_neighbors - 1`` neighbours enter the histograms.
     normals : (n, 3) float array, optional
         Normals of the points (normalised here). Their signs matter: give them oriented
         consistently (outwards, say), or omit them.
     normal_neighbors : int, default 10
-        Neighbours per estimated normal, ``>= 2``.
+        Neighbours per estimated normal, ``>= 2``: the point and this many others (Open3D's
+        ``KDTreeSearchParamKNN(knn)`` counts the point, so this is its ``knn - 1``).
 
     Returns
     -------
@@ -358,7 +362,8 @@ def feature_normals(points: FloatArray, tree: cKDTree, k: int) -> FloatArray:
 def _fpfh(pts: FloatArray, nrm: FloatArray, tree: cKDTree, radius: float,
           max_neighbors: int) -> FloatArray:
     n = pts.shape[0]
-    i, j, length, rows, pair = _neighbour_pairs(tree, pts, radius, max_neighbors)
+    # Open3D's max_nn counts the query point itself: max_neighbors - 1 others
+    i, j, length, rows, pair = _neighbour_pairs(tree, pts, radius, max_neighbors - 1)
     pt, nt = np.ascontiguousarray(pts.T), np.ascontiguousarray(nrm.T)
     b1, b2, b3 = _pair_bins(pt[:, j] - pt[:, i], nt[:, i], nt[:, j], length)
     count = np.bincount(rows, minlength=n).astype(float)

@@ -405,7 +405,9 @@ def icp(
         omitted: the smallest principal axis of each point's ``normal_neighbors`` nearest
         neighbours.
     normal_neighbors : int, default 10
-        Neighbours per estimated normal, ``>= 2``.
+        Neighbours per estimated normal, ``>= 2``: the point and this many others
+        (Open3D's ``KDTreeSearchParamKNN(knn)`` counts the point itself, so this is its
+        ``knn - 1``).
     progress : callable, optional
         ``progress(done, total, message)`` after every iteration; it may raise
         :class:`~algorithms.core.errors.Cancelled`, which propagates.
@@ -453,6 +455,18 @@ def icp(
     point-to-point it is computed as one fit from the original points to the current
     partners (the same minimiser, since each model is a group, with no accumulated
     rounding), for the plane metrics increment after increment.
+
+    **Where the plane steps linearise.** The point-to-plane and symmetric steps linearise
+    the rotation about the centroid of the moved source (coordinates centred and scaled
+    there); Open3D's ``TransformationEstimationPointToPlane`` linearises about the origin of
+    the coordinates. Each step is then a different approximation of the same exact
+    minimiser, so the iterates differ while the fixed point is the same. Measured against
+    Open3D 0.20 (4,000 points of a lumpy closed surface turned by 11° and moved, normals
+    from Open3D, threshold 0.3): RMSE after 1, 2 and 5 iterations +0.38 %, +0.005 % and
+    below 1e-6 relative to Open3D's, transforms equal to 4e-13 after 30; on another pair a
+    0.15 % difference after 2 iterations (ours lower) was reported. Centring keeps the step
+    independent of where the data sit: about a far origin, a small rotation is coupled to
+    a large translation.
 
     **The PCA start.** ``init="pca"`` picks no sign choice of the principal axes by a rule
     on the axes: every proper one is run through ICP and the best result kept. (The rule

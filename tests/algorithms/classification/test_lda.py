@@ -75,3 +75,34 @@ def test_bad_input(kwargs, field, match) -> None:
 def test_no_within_class_spread() -> None:
     with pytest.raises(DegenerateInputError, match="within their classes"):
         lda([[0, 0], [0, 0], [1, 1], [1, 1]], [0, 0, 1, 1])
+
+
+def _means_in_a_plane() -> tuple[np.ndarray, np.ndarray]:
+    # 4 classes in 3-D whose means lie in the plane z = 0: the between-class scatter has
+    # rank 2 although min(c - 1, d) = 3
+    rng = np.random.default_rng(0)
+    centres = np.array([[0, 0, 0], [4, 0, 0], [0, 4, 0], [4, 4, 0]], float)
+    y = np.repeat(np.arange(4), 50)
+    x = centres[y] + rng.normal(size=(200, 3))
+    x -= np.vstack([x[y == c].mean(axis=0) - centres[c] for c in range(4)])[y]  # exact means
+    return x, y
+
+
+@pytest.mark.parametrize("n_components", [None, 3])
+def test_means_of_lower_rank_give_only_the_directions_with_rank(n_components) -> None:
+    x, y = _means_in_a_plane()
+    res = lda(x, y, n_components=n_components, query=x[:5])
+    ref = LinearDiscriminantAnalysis(n_components=n_components).fit(x, y)
+    # scikit-learn's transform returns min(rank, n_components) = 2 columns; so do we
+    assert ref.transform(x).shape == (200, 2)
+    assert res.embedding.shape == (200, 2) and res.scalings.shape == (3, 2)
+    assert res.query_embedding.shape == (5, 2) and res.explained_variance_ratio.shape == (2,)
+    np.testing.assert_allclose(np.abs(res.embedding), np.abs(ref.transform(x)), atol=1e-8)
+    np.testing.assert_allclose(res.explained_variance_ratio,
+                               ref.explained_variance_ratio_[:2], rtol=1e-10)
+    assert ref.explained_variance_ratio_[2:].sum() < 1e-8  # the share sklearn keeps besides
+    # no constant column: unit within-class variance along every direction, as promised
+    within = res.embedding - np.vstack([res.embedding[y == c].mean(axis=0)
+                                        for c in range(4)])[y]
+    np.testing.assert_allclose(np.mean(within ** 2, axis=0), 1.0, rtol=1e-10)
+    assert np.array_equal(res.predictions, ref.predict(x))

@@ -65,7 +65,7 @@ def test_radius_heat_and_sparse_solver_agree_with_dense(monkeypatch) -> None:
 def test_more_components_than_clusters_warns() -> None:
     pts = [[0, 0], [0, 1], [10, 0], [10, 1], [20, 0], [20, 1]]
     with pytest.warns(UserWarning, match="3 connected components"):
-        res = spectral(pts, n_clusters=2, n_neighbors=1)
+        res = spectral(pts, n_clusters=2, n_neighbors=2)  # itself and one other
     assert res.graph_components == 3
 
 

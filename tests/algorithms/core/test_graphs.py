@@ -119,7 +119,12 @@ def test_knn_with_coincident_points_keeps_zero_length_edges():
     assert (g.diagonal() == 0).all()
     # every point has a neighbour; the three coincident ones are joined by explicit zeros
     assert (np.diff(g.indptr) >= 1).all()
-    assert set(g[[0]].indices.tolist()) <= {1, 2}
+    # ties by lower index, and point 2 (hidden behind 0 and 1) drops its first column, as
+    # scikit-learn's kneighbors does: 0-1, 1-0, 2-1, 3-0
+    coo = g.tocoo()
+    assert sorted(zip(coo.row.tolist(), coo.col.tolist())) == [
+        (0, 1), (0, 3), (1, 0), (1, 2), (2, 1), (3, 0)]
+    assert g[0, 1] == 0 and g[0, 3] == pytest.approx(np.sqrt(50))
 
 
 def test_knn_rejects_bad_input():

@@ -59,7 +59,9 @@ def _o3d_fpfh(points, normals, radius, max_nn):  # noqa: ANN001, ANN202
     tree = cKDTree(points)
     nbrs = []
     for i in range(n):
-        dist, idx = tree.query(points[i], k=min(max_nn + 1, n), distance_upper_bound=radius)
+        # Open3D's SearchHybrid(radius, max_nn) returns at most max_nn points, the query
+        # point itself first; ComputeSPFHFeature skips that first index
+        dist, idx = tree.query(points[i], k=min(max_nn, n), distance_upper_bound=radius)
         nbrs.append([(j, d) for j, d in zip(np.atleast_1d(idx), np.atleast_1d(dist))
                      if j < n and j != i and d > 0])
     spfh = np.zeros((n, 33))
@@ -223,3 +225,17 @@ def test_voxel_size_must_be_positive():
     with pytest.raises(InvalidInputError, match="voxel_size") as info:
         voxel_downsample(blob(10), 0.0)
     assert info.value.field == "voxel_size"
+
+
+def test_max_neighbors_counts_the_point_itself():
+    # Open3D's max_nn counts the query point: a cap of (most others within radius) + 1
+    # never binds, a cap of (most others) does
+    pts = blob(200, 6)
+    tree = cKDTree(pts)
+    normals = feature_normals(pts, tree, 10)
+    most = int(tree.query_ball_point(pts, 0.5, return_length=True).max()) - 1  # others
+    free = _fpfh(pts, normals, tree, 0.5, 10 ** 6)
+    np.testing.assert_array_equal(_fpfh(pts, normals, tree, 0.5, most + 1), free)
+    assert np.abs(_fpfh(pts, normals, tree, 0.5, most) - free).max() > 1e-6
+    # a cap of 1 is the point alone: no neighbour enters, every histogram is empty
+    assert not _fpfh(pts, normals, tree, 0.5, 1).any()
