@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import Any, Literal, get_args
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 from scipy.spatial.distance import cdist
@@ -130,6 +131,45 @@ def _boundary_mass(disk: Disk) -> FloatArray:
     return mass
 
 
+#: Boundary unknowns (2 per boundary vertex) up to which the spectral problem is reduced to
+#: the boundary and solved densely (:func:`_boundary_eigenvectors`).
+_DENSE_BOUNDARY = 600
+
+
+def _boundary_eigenvectors(q: sp.csc_array, mass: FloatArray, loop: IntArray,
+                           k: int) -> FloatArray:
+    r"""The ``k`` generalized eigenvectors of :math:`Qx = \lambda Bx` of smallest
+    :math:`\lambda`, with ``B`` the boundary mass (zero inside), by reduction to the boundary.
+
+    Notes
+    -----
+    ``B`` vanishes on the interior unknowns, so an eigenvector's interior part solves
+    :math:`Q_{II} x_I + Q_{IB} x_B = 0` and its boundary part the dense, positive definite
+    problem :math:`(Q_{BB} - Q_{BI} Q_{II}^{-1} Q_{IB}) x_B = \lambda B_{BB} x_B` (the Schur
+    complement; :math:`Q_{II}` is positive definite, since a similarity that vanishes on the
+    boundary is zero). Shift-invert Lanczos on the full problem works in the range of
+    :math:`Q^{-1}B`, of dimension ``2 b``: with a short boundary its Krylov space is
+    exhausted before it converges (ARPACK's "could not build an Arnoldi factorization").
+    """
+    n = mass.size
+    bnd = np.concatenate([loop, loop + n])
+    inner = np.setdiff1d(np.arange(2 * n), bnd)
+    qbb = q[bnd][:, bnd].toarray()
+    if inner.size:
+        qib = q[inner][:, bnd].toarray()
+        z = Factor(q[inner][:, inner], name="Q").solve(qib)
+        schur = qbb - qib.T @ z
+    else:
+        z = np.zeros((0, bnd.size))
+        schur = qbb
+    _, y = scipy.linalg.eigh(0.5 * (schur + schur.T), np.diag(np.tile(mass, 2)[bnd]),
+                             subset_by_index=[0, k - 1])
+    vecs = np.empty((2 * n, k))
+    vecs[bnd] = y
+    vecs[inner] = -z @ y
+    return vecs
+
+
 def spectral_uv(disk: Disk) -> tuple[FloatArray, float]:
     r"""Spectral conformal parameterization of a checked disk: the minimiser of
     :math:`E_C` with unit boundary norm, orthogonal to the constants; returned centred,
@@ -142,11 +182,14 @@ def spectral_uv(disk: Disk) -> tuple[FloatArray, float]:
     # shift below 0: Q + εB is positive definite (Q vanishes only on similarities, which
     # do not vanish on the boundary); ε small against Q's smallest non-zero eigenvalues
     eps = 1e-8 * float(q.diagonal().sum() / b.diagonal().sum())
-    factor = Factor(q + eps * b, name="Q")
-    op = sla.LinearOperator(q.shape, matvec=factor.solve, dtype=np.float64)
     k = min(4, 2 * n - 1)
-    v0 = np.concatenate([np.cos(np.arange(n)), np.sin(np.arange(n))])   # deterministic
-    _, vecs = sla.eigsh(q, k=k, M=b, sigma=-eps, which="LM", OPinv=op, v0=v0, tol=0)
+    if 2 * disk.loop.size <= _DENSE_BOUNDARY:
+        vecs = _boundary_eigenvectors(q, mass, disk.loop, k)
+    else:
+        factor = Factor(q + eps * b, name="Q")
+        op = sla.LinearOperator(q.shape, matvec=factor.solve, dtype=np.float64)
+        v0 = np.concatenate([np.cos(np.arange(n)), np.sin(np.arange(n))])   # deterministic
+        _, vecs = sla.eigsh(q, k=k, M=b, sigma=-eps, which="LM", OPinv=op, v0=v0, tol=0)
     # remove the constants (B-orthogonally), then Rayleigh-Ritz in what remains
     c = np.zeros((2 * n, 2))
     c[:n, 0] = 1.0
