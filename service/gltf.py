@@ -9,7 +9,12 @@ What the service sends for ``Accept: model/gltf-binary`` is built here:
   material colour (an aligned source over its target as two coloured point clouds);
 - :func:`morph_animation_glb`: frames of one shape as a mesh with morph targets and a LINEAR
   animation of its ``weights`` that plays the frames in order;
-- :func:`label_colors`: a deterministic palette for points coloured by label.
+- :func:`label_colors`: a deterministic palette for points coloured by label;
+  :func:`index_colors`: viridis by point index, for points without labels;
+- :func:`checker_png`: a checker texture (PNG, written with zlib) that shows a UV layout;
+- :func:`point_hints`: the suggested size of drawn points, for a point cloud's node extras
+  (glTF has no point size);
+- :func:`y_up`: a scene of z-up data turned +z to +y by a root node.
 
 :func:`check_glb` refuses an uploaded glTF/GLB whose JSON declares more data than the file
 holds (buffers, buffer views or accessors beyond the binary chunk, a "huge buffer"),
@@ -46,6 +51,7 @@ import base64
 import binascii
 import json
 import struct
+import zlib
 from collections.abc import Sequence
 from typing import Any
 
@@ -60,6 +66,11 @@ __all__ = [
     "scene_glb",
     "morph_animation_glb",
     "label_colors",
+    "index_colors",
+    "point_hints",
+    "checker_png",
+    "CHECKER_LIGHT",
+    "y_up",
     "check_glb",
     "read_glb",
 ]
@@ -76,13 +87,15 @@ _COMPONENT_DTYPE = {_BYTE: "<i1", _UBYTE: "<u1", _SHORT: "<i2", _USHORT: "<u2",
                     _UINT: "<u4", _FLOAT: "<f4"}
 _TYPE_SIZE = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
+_LINEAR, _LINEAR_MIPMAP_LINEAR, _REPEAT = 9729, 9987, 10497
 _POINTS, _TRIANGLES = 0, 4
 
 _FLOAT32_MAX = float(np.finfo(np.float32).max)
 _UINT16_INDEX_MAX = 65534  # 65535 is the primitive-restart value, not a valid index
 _DEFAULT_GREY = (0.8, 0.8, 0.8)
 
-_PART_KEYS = frozenset({"vertices", "faces", "uv", "colors", "normals", "name", "color"})
+_PART_KEYS = frozenset({"vertices", "faces", "uv", "colors", "normals", "name", "color",
+                        "texture", "extras"})
 
 
 # --------------------------------------------------------------------------------------
@@ -102,9 +115,13 @@ class _Writer:
             "materials": [],
             "bufferViews": [],
             "accessors": [],
+            "images": [],
+            "samplers": [],
+            "textures": [],
         }
         self.blobs: list[Any] = []
         self.size = 0
+        self._textures: dict[bytes, int] = {}
 
     def view(self, arr: np.ndarray, *, target: int | None = None) -> int:
         """Append a C-contiguous little-endian array as one buffer view; its index."""
@@ -141,9 +158,28 @@ class _Writer:
         self.doc["accessors"].append(acc)
         return len(self.doc["accessors"]) - 1
 
-    def material(self, color: Sequence[float], *, points: bool, blend: bool) -> int:
-        pbr = {"baseColorFactor": [float(c) for c in color], "metallicFactor": 0.0,
-               "roughnessFactor": 1.0}
+    def texture(self, png: bytes) -> int:
+        """A texture of the PNG ``png`` (one image and texture per distinct PNG, written
+        into the binary chunk), repeating, linear and mipmapped; its index."""
+        if png in self._textures:
+            return self._textures[png]
+        view = self.view(np.frombuffer(png, dtype=np.uint8))
+        self.doc["images"].append({"bufferView": view, "mimeType": "image/png"})
+        if not self.doc["samplers"]:
+            self.doc["samplers"].append({"magFilter": _LINEAR,
+                                         "minFilter": _LINEAR_MIPMAP_LINEAR,
+                                         "wrapS": _REPEAT, "wrapT": _REPEAT})
+        self.doc["textures"].append({"sampler": 0, "source": len(self.doc["images"]) - 1})
+        index = len(self.doc["textures"]) - 1
+        self._textures[png] = index
+        return index
+
+    def material(self, color: Sequence[float], *, points: bool, blend: bool,
+                 texture: int | None = None) -> int:
+        pbr: dict[str, Any] = {"baseColorFactor": [float(c) for c in color],
+                               "metallicFactor": 0.0, "roughnessFactor": 1.0}
+        if texture is not None:
+            pbr["baseColorTexture"] = {"index": texture}
         mat: dict[str, Any] = {"pbrMetallicRoughness": pbr}
         if points:
             mat["extensions"] = {"KHR_materials_unlit": {}}
@@ -157,10 +193,12 @@ class _Writer:
         self.doc["materials"].append(mat)
         return len(self.doc["materials"]) - 1
 
-    def node(self, mesh: int, name: str | None) -> int:
+    def node(self, mesh: int, name: str | None, extras: dict[str, Any] | None = None) -> int:
         node: dict[str, Any] = {"mesh": mesh}
         if name is not None:
             node["name"] = name
+        if extras:
+            node["extras"] = extras
         self.doc["nodes"].append(node)
         index = len(self.doc["nodes"]) - 1
         self.doc["scenes"][0]["nodes"].append(index)
@@ -327,6 +365,12 @@ def _add_part(w: _Writer, part: dict[str, Any], prefix: str,
     if part.get("uv") is not None:
         attributes["TEXCOORD_0"] = w.accessor(_uv(part["uv"], n, f"{prefix}uv"), _FLOAT,
                                               "VEC2", target=_ARRAY_BUFFER)
+    texture = None
+    if part.get("texture") is not None:
+        if points or part.get("uv") is None:
+            raise _err(f"Expected `{prefix}texture` only on a triangle mesh with `uv` (the "
+                       "texture is looked up at each vertex's uv).", f"{prefix}texture")
+        texture = w.texture(_png(part["texture"], f"{prefix}texture"))
     blend = False
     if part.get("colors") is not None:
         col, comp, blend = _colors(part["colors"], n, f"{prefix}colors")
@@ -334,6 +378,8 @@ def _add_part(w: _Writer, part: dict[str, Any], prefix: str,
                                            target=_ARRAY_BUFFER, normalized=comp == _UBYTE)
     if part.get("color") is not None:
         factor = _color_factor(part["color"], f"{prefix}color")
+    elif part.get("colors") is not None or texture is not None:
+        factor = [1.0, 1.0, 1.0, 1.0]  # the factor multiplies them: white shows them as given
     else:
         factor = [float(c) for c in default_color] + [1.0]
     blend = blend or factor[3] < 1
@@ -342,16 +388,69 @@ def _add_part(w: _Writer, part: dict[str, Any], prefix: str,
     if not points:
         idx, comp = _faces(part["faces"], n, f"{prefix}faces")
         primitive["indices"] = w.accessor(idx, comp, "SCALAR", target=_ELEMENT_ARRAY_BUFFER)
-    primitive["material"] = w.material(factor, points=points, blend=blend)
+    primitive["material"] = w.material(factor, points=points, blend=blend, texture=texture)
     mesh: dict[str, Any] = {"primitives": [primitive]}
     if name is not None:
         mesh["name"] = name
     w.doc["meshes"].append(mesh)
-    w.node(len(w.doc["meshes"]) - 1, name)
+    extras = _extras(part.get("extras"), f"{prefix}extras")
+    if points:
+        extras = {**point_hints(pos), **extras}
+    w.node(len(w.doc["meshes"]) - 1, name, extras)
+
+
+def point_hints(positions: Any) -> dict[str, float | int]:
+    """How large to draw points, for the node's ``extras`` (glTF has no point size; many
+    viewers draw one pixel).
+
+    Returns ``{"pointSize": px, "pointSpacing": s}``: a size on screen in pixels (6 up to
+    1000 points, 4 up to 10 000, 3 up to 100 000, else 2), and about the distance between
+    neighbouring points were they spread evenly over their bounding box,
+    ``s = (V / n)^(1/k)`` with ``V`` the product of the ``k`` non-zero extents of the box
+    (``k`` = 2 for a flat embedding), a size in world units for viewers that scale points
+    with distance (three.js ``PointsMaterial`` with ``sizeAttenuation``). ``s`` is 1 when
+    every point is the same.
+
+    Examples
+    --------
+    >>> point_hints(np.c_[np.arange(11.0), np.zeros(11)])
+    {'pointSize': 6, 'pointSpacing': 0.9090909090909091}
+    """
+    pts = np.asarray(positions, dtype=np.float64)
+    n = len(pts)
+    size = 6 if n <= 1000 else 4 if n <= 10_000 else 3 if n <= 100_000 else 2
+    extent = pts.max(axis=0) - pts.min(axis=0) if n else np.zeros(1)
+    span = extent[extent > 1e-12 * max(float(extent.max(initial=0.0)), 1e-300)]
+    spacing = float(np.prod(span) / n) ** (1.0 / len(span)) if len(span) and n else 1.0
+    return {"pointSize": size, "pointSpacing": spacing}
+
+
+def _extras(extras: Any, field: str) -> dict[str, Any]:
+    """A node's ``extras``: a JSON object (checked to serialise), or none."""
+    if extras is None:
+        return {}
+    if not isinstance(extras, dict):
+        raise _err(f"Expected `{field}` to be a dict (the node's glTF extras), got "
+                   f"{type(extras).__name__}.", field)
+    try:
+        json.dumps(extras, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise _err(f"Expected `{field}` to hold JSON values only: {exc}.", field) from None
+    return dict(extras)
+
+
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def _png(data: Any, field: str) -> bytes:
+    if not isinstance(data, (bytes, bytearray)) or not bytes(data[:8]) == _PNG_SIGNATURE:
+        raise _err(f"Expected `{field}` to be the bytes of a PNG image.", field)
+    return bytes(data)
 
 
 def mesh_glb(vertices: Any, faces: Any = None, *, uv: Any = None, colors: Any = None,
-             normals: Any = None, name: str | None = None) -> bytes:
+             normals: Any = None, name: str | None = None, texture: bytes | None = None,
+             extras: dict[str, Any] | None = None) -> bytes:
     """One triangle mesh or point cloud as a GLB file.
 
     Parameters
@@ -373,11 +472,19 @@ def mesh_glb(vertices: Any, faces: Any = None, *, uv: Any = None, colors: Any = 
         vector is an error.
     name : str, optional
         Name of the mesh and its node.
+    texture : bytes, optional
+        A PNG image (:func:`checker_png`) the material shows, looked up at ``uv``
+        (``baseColorTexture``); needs ``faces`` and ``uv``.
+    extras : dict, optional
+        The node's glTF ``extras`` (JSON values). A point cloud's also get
+        :func:`point_hints` (``pointSize``, ``pointSpacing``) unless given here.
 
     Returns
     -------
     bytes
         The GLB file (``model/gltf-binary``): one scene, one node, one mesh, one primitive.
+        Its material colour is grey, or white when ``colors`` or ``texture`` give the
+        colours (the factor multiplies them).
 
     Raises
     ------
@@ -400,12 +507,12 @@ def mesh_glb(vertices: Any, faces: Any = None, *, uv: Any = None, colors: Any = 
     """
     w = _Writer()
     part = {"vertices": vertices, "faces": faces, "uv": uv, "colors": colors,
-            "normals": normals, "name": name}
+            "normals": normals, "name": name, "texture": texture, "extras": extras}
     _add_part(w, part, "", _DEFAULT_GREY)
     return w.pack()
 
 
-def scene_glb(parts: list[dict[str, Any]]) -> bytes:
+def scene_glb(parts: list[dict[str, Any]], *, extras: dict[str, Any] | None = None) -> bytes:
     """Several meshes and point clouds as separate nodes of one scene, in one GLB file.
 
     Parameters
@@ -414,8 +521,12 @@ def scene_glb(parts: list[dict[str, Any]]) -> bytes:
         One dict per mesh or point cloud, with the keys of :func:`mesh_glb` (``vertices``
         required; ``faces``, ``uv``, ``colors``, ``normals``, ``name`` optional) and
         ``color``: the part's material colour, RGB or RGBA floats in [0, 1] (it multiplies
-        ``colors`` where both are given). Without ``color`` part ``i`` gets
-        ``label_colors([i])``: blue, orange, green, red, ...
+        ``colors`` where both are given), ``texture`` (as in :func:`mesh_glb`), and
+        ``extras``: the node's glTF extras. Without ``color`` part ``i`` gets
+        ``label_colors([i])``: blue, orange, green, red, ... (white when ``colors`` or a
+        ``texture`` colour it).
+    extras : dict, optional
+        The scene's glTF ``extras`` (JSON values).
 
     Returns
     -------
@@ -452,11 +563,15 @@ def scene_glb(parts: list[dict[str, Any]]) -> bytes:
                        f"`faces`, `uv`, `colors`, `normals`, `name`, `color`; got "
                        f"{type(part).__name__}.", f"parts[{i}]")
         _add_part(w, part, f"parts[{i}].", palette[i])
+    if extras is not None:
+        w.doc["scenes"][0]["extras"] = _extras(extras, "extras")
     return w.pack()
 
 
 def morph_animation_glb(frames: Any, faces: Any = None, times: Any = None, *,
-                        duration: float = 2.0, name: str | None = None) -> bytes:
+                        duration: float = 2.0, name: str | None = None,
+                        extras: dict[str, Any] | None = None,
+                        scene_extras: dict[str, Any] | None = None) -> bytes:
     r"""Frames of one shape as a mesh with morph targets and a LINEAR weights animation.
 
     The mesh's base positions are ``frames[0]``; morph target ``k - 1`` holds
@@ -483,6 +598,10 @@ def morph_animation_glb(frames: Any, faces: Any = None, times: Any = None, *,
         Length of the default timeline in seconds (ignored when ``times`` is given).
     name : str, optional
         Name of the mesh, its node and the animation.
+    extras : dict, optional
+        The node's glTF ``extras``, as in :func:`mesh_glb` (points get :func:`point_hints`).
+    scene_extras : dict, optional
+        The scene's glTF ``extras``.
 
     Returns
     -------
@@ -562,7 +681,10 @@ def morph_animation_glb(frames: Any, faces: Any = None, times: Any = None, *,
         mesh["weights"] = [0.0] * (T - 1)
         mesh["extras"] = {"targetNames": [f"frame {k}" for k in range(1, T)]}
     w.doc["meshes"].append(mesh)
-    node = w.node(0, name)
+    node_extras = _extras(extras, "extras")
+    if points:
+        node_extras = {**point_hints(f64[0]), **node_extras}
+    node = w.node(0, name, node_extras)
     if T > 1:
         weights = np.zeros((T, T - 1), dtype="<f4")
         weights[np.arange(1, T), np.arange(T - 1)] = 1.0
@@ -575,6 +697,8 @@ def morph_animation_glb(frames: Any, faces: Any = None, times: Any = None, *,
         if name is not None:
             animation["name"] = name
         w.doc["animations"] = [animation]
+    if scene_extras is not None:
+        w.doc["scenes"][0]["extras"] = _extras(scene_extras, "scene_extras")
     return w.pack()
 
 
@@ -691,6 +815,153 @@ def label_colors(labels: Any) -> np.ndarray:
         raise _err("Expected `labels` to be integers or sortable values of one type "
                    "(strings or numbers).", "labels") from None
     return _palette(np.arange(values.shape[0]))[codes.reshape(-1)]
+
+
+# matplotlib's viridis at 0, 1/9, ..., 1 (its ten-colour sampling; the map is CC0)
+_VIRIDIS = np.array([
+    [0x44, 0x01, 0x54], [0x48, 0x28, 0x78], [0x3E, 0x49, 0x89], [0x31, 0x68, 0x8E],
+    [0x26, 0x82, 0x8E], [0x1F, 0x9E, 0x89], [0x35, 0xB7, 0x79], [0x6E, 0xCE, 0x58],
+    [0xB5, 0xDE, 0x2B], [0xFD, 0xE7, 0x25]], dtype=np.float64) / 255.0
+
+
+def index_colors(n: int) -> np.ndarray:
+    """A sequential colour per point by its index: viridis from dark purple (point 0) to
+    yellow (point ``n - 1``), for points that have no labels (neighbours in the input order
+    get neighbouring colours, so an embedding shows where the sequence goes).
+
+    Parameters
+    ----------
+    n : int
+        Number of points, ``n >= 0``.
+
+    Returns
+    -------
+    (n, 3) float64 array
+        Colours in [0, 1]: viridis at ``i / (n - 1)``, linearly interpolated between its
+        ten-colour sampling (within 0.02 of the full map); point 0 alone is the first colour.
+
+    Examples
+    --------
+    >>> (index_colors(2) * 255).round().astype(int).tolist()
+    [[68, 1, 84], [253, 231, 37]]
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise _err(f"Expected `n` to be an integer >= 0, got {n!r}.", "n")
+    t = np.linspace(0.0, 1.0, int(n)) if n > 1 else np.zeros(int(n))
+    x = t * (len(_VIRIDIS) - 1)
+    out = np.stack([np.interp(x, np.arange(len(_VIRIDIS)), _VIRIDIS[:, c]) for c in range(3)],
+                   axis=1)
+    return out
+
+
+def _png_rgb(image: np.ndarray) -> bytes:
+    """An (h, w, 3) uint8 image as a PNG file: 8-bit RGB, one IDAT chunk, no filtering."""
+    h, w, _ = image.shape
+
+    def chunk(kind: bytes, body: bytes) -> bytes:
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(
+            ">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
+
+    rows = np.zeros((h, 1 + 3 * w), dtype=np.uint8)  # filter byte 0 (None) on each row
+    rows[:, 1:] = image.reshape(h, 3 * w)
+    return (_PNG_SIGNATURE + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows.tobytes(), 9)) + chunk(b"IEND", b""))
+
+
+#: The checker's light squares; the dark ones are tinted by their place in the square.
+CHECKER_LIGHT = (235, 235, 235)
+
+
+def checker_png(size: int = 512, cells: int = 16) -> bytes:
+    """A checker texture over the unit square of UV space, as a PNG file.
+
+    The square ``[0, 1]²`` holds ``cells × cells`` squares: the square of ``(u, v)`` is
+    ``(floor(u cells), floor(v cells)) = (i, j)``; it is light grey (:data:`CHECKER_LIGHT`)
+    when ``i + j`` is even, else dark and tinted so that the layout's orientation shows:
+    red ``64 + 160 i / (cells - 1)``, green 90, blue ``64 + 160 j / (cells - 1)`` (reddish
+    towards +u, bluish towards +v). Pixel row ``r`` holds ``v = 1 - (r + 1/2) / size``, as
+    glTF textures hold ``(u, 1 - v)`` (see the module's notes), so the image appears
+    upright on a mesh textured by :func:`mesh_glb`.
+
+    Parameters
+    ----------
+    size : int, default 512
+        Width and height in pixels, a power of two (mipmapped everywhere, WebGL 1 too).
+    cells : int, default 16
+        Squares along each side, at least 2, dividing ``size``.
+
+    Returns
+    -------
+    bytes
+        The PNG file (8-bit RGB).
+
+    Examples
+    --------
+    >>> checker_png(8, 2)[:8]
+    b'\\x89PNG\\r\\n\\x1a\\n'
+    """
+    if size < 2 or size & (size - 1) or cells < 2 or size % cells:
+        raise _err(f"Expected `size` a power of two and `cells` >= 2 dividing it, got size "
+                   f"{size!r}, cells {cells!r}.", "size")
+    centre = (np.arange(size) + 0.5) / size
+    i = np.floor(centre * cells).astype(np.int64)  # columns: u
+    j = np.floor((1.0 - centre) * cells).astype(np.int64)  # rows: v = 1 - t
+    image = np.empty((size, size, 3), dtype=np.uint8)
+    image[:, :, 0] = (64 + 160 * i[None, :] / (cells - 1)).round()
+    image[:, :, 1] = 90
+    image[:, :, 2] = (64 + 160 * j[:, None] / (cells - 1)).round()
+    light = (i[None, :] + j[:, None]) % 2 == 0
+    image[light] = CHECKER_LIGHT
+    return _png_rgb(image)
+
+
+#: Rotation of -90° about +x, as a glTF quaternion (x, y, z, w): takes +z to +y.
+_Z_UP_TO_Y_UP = [-float(np.sqrt(0.5)), 0.0, 0.0, float(np.sqrt(0.5))]
+
+
+def y_up(glb: bytes, *, up: str = "z") -> bytes:
+    """The GLB ``glb`` with its scene turned so that the data's ``up`` axis points up.
+
+    glTF's up axis is +y; scans and CAD data usually have +z up. For ``up="z"`` the
+    scene's nodes become the children of one new root node, named ``"z-up to y-up"``,
+    whose rotation (-90° about +x) takes +z to +y (and +y to -z): the positions
+    themselves are unchanged, so every accessor, animation and node index stays valid.
+    The scene's ``extras.up`` becomes ``"z"``. ``up="y"`` returns ``glb`` as it is.
+
+    Parameters
+    ----------
+    glb : bytes
+        A GLB file as written here (JSON chunk first).
+    up : {"y", "z"}, default "z"
+        The axis of the data that points up.
+
+    Returns
+    -------
+    bytes
+        The GLB file.
+
+    Examples
+    --------
+    >>> doc = read_glb(y_up(mesh_glb(np.eye(3))))["json"]
+    >>> doc["nodes"][-1]["name"], doc["scenes"][0]["nodes"]
+    ('z-up to y-up', [1])
+    """
+    if up not in ("y", "z"):
+        raise _err(f"Expected `up` to be 'y' or 'z', got {up!r}.", "up")
+    if up == "y":
+        return glb
+    json_len = struct.unpack_from("<I", glb, 12)[0]
+    doc = json.loads(bytes(glb[20:20 + json_len]))
+    scene = doc["scenes"][doc.get("scene", 0)]
+    doc.setdefault("nodes", []).append({"name": "z-up to y-up", "rotation": _Z_UP_TO_Y_UP,
+                                        "children": scene.get("nodes", [])})
+    scene["nodes"] = [len(doc["nodes"]) - 1]
+    scene["extras"] = {**scene.get("extras", {}), "up": "z"}
+    text = json.dumps(doc, separators=(",", ":"), allow_nan=False).encode("utf-8")
+    text += b" " * (-len(text) % 4)
+    rest = bytes(glb[20 + json_len:])
+    return b"".join([struct.pack("<III", _GLB_MAGIC, 2, 12 + 8 + len(text) + len(rest)),
+                     struct.pack("<II", len(text), _CHUNK_JSON), text, rest])
 
 
 # --------------------------------------------------------------------------------------

@@ -9,16 +9,35 @@ particular result has nothing to show (a clustering of a graph given without poi
 - :func:`animation` — interpolation frames: one mesh with a morph target per frame and a
   LINEAR animation through them;
 - :func:`uv_mesh` — a parameterization: the mesh with ``TEXCOORD_0`` (the UVs moved and
-  scaled uniformly into the unit square);
-- :func:`deformed_mesh` — the ``mesh`` output;
-- :func:`layout` — the laid-out ``positions``, with the input mesh's faces when there is one;
+  scaled uniformly into the unit square) and a checker texture, beside the flat UV layout
+  textured the same way;
+- :func:`deformed_mesh` — the ``mesh`` output, and the handles' target positions as points;
+- :func:`layout` — the laid-out ``positions``, with the input mesh's faces when there is one,
+  coloured by vertex index;
 - :func:`clusters` — the input points coloured by cluster ``labels``;
 - :func:`embedding` — the embedded points (first three components), coloured by class when
-  labels are known;
-- :func:`moved_source` — the moved source and the target as two coloured point clouds or
-  meshes (an alignment or registration: ``moved`` or ``transform``);
+  labels are known, else by index;
+- :func:`moved_source` — the moved source, the target and the source where it was, as
+  coloured point clouds or meshes (an alignment or registration: ``moved`` or
+  ``transform``);
 - :func:`moved_sets` — every input set moved by its ``transforms`` row (multiway
   registration).
+
+What a viewer can read besides the geometry (glTF ``extras``; three.js puts them in
+``userData``):
+
+- the scene: ``{"kind": <builder name>, "up": "y"}`` (``"up": "z"`` once
+  :func:`service.gltf.y_up` has turned the scene under its root node ``"z-up to y-up"``);
+- every node: ``"role"``, one of ``"mesh"`` (a result's mesh), ``"uv-layout"``,
+  ``"handles"``, ``"points"`` (embedding, clustering), ``"layout"``, ``"frames"``
+  (interpolation), ``"moved"``, ``"target"``, ``"source"`` (registration), ``"set"``
+  (multiway, with ``"set": i``);
+- coloured nodes: ``"colorBy"`` (``"labels"`` or ``"index"``) and, for labels,
+  ``"legend"``: ``[{"label": value, "color": [r, g, b]}, ...]`` for up to 64 labels;
+- point clouds: ``"pointSize"`` (pixels) and ``"pointSpacing"`` (world units), the
+  suggested size of a drawn point (:func:`service.gltf.point_hints`);
+- the UV layout: ``"origin"`` and ``"scale"``: its vertex ``k`` is at
+  ``origin + scale * (u_k, v_k, 0)``, with ``(u, v)`` the UVs in the unit square.
 """
 
 from __future__ import annotations
@@ -28,10 +47,12 @@ from typing import Any
 
 import numpy as np
 
+from algorithms.core.mesh import Handles
 from service import gltf
 
 __all__ = ["animation", "uv_mesh", "deformed_mesh", "layout", "clusters", "embedding",
-           "moved_source", "moved_sets", "SOURCE_COLOR", "TARGET_COLOR"]
+           "moved_source", "moved_sets", "SOURCE_COLOR", "TARGET_COLOR", "ORIGINAL_COLOR",
+           "HANDLE_COLOR", "CHECKER"]
 
 Outputs = Mapping[str, Any]
 Inputs = Mapping[str, Any]
@@ -39,6 +60,37 @@ Inputs = Mapping[str, Any]
 #: Colours of the two sides of a registration: the moved source and the target.
 SOURCE_COLOR = (0.95, 0.45, 0.1)
 TARGET_COLOR = (0.15, 0.45, 0.85)
+#: The source where it was, before the registration moved it.
+ORIGINAL_COLOR = (0.6, 0.6, 0.6)
+#: The deformation handles' target positions.
+HANDLE_COLOR = (0.85, 0.1, 0.1)
+#: The checker texture of parameterizations (16 × 16 squares over the unit square).
+CHECKER = gltf.checker_png()
+
+_LEGEND_MAX = 64
+
+
+def _scene(kind: str) -> dict[str, Any]:
+    return {"kind": kind, "up": "y"}
+
+
+def _json_value(x: Any) -> Any:
+    return x.item() if isinstance(x, np.generic) else x
+
+
+def _colour_by(labels: np.ndarray | None, n: int) -> tuple[np.ndarray, dict[str, Any]]:
+    """Per-point colours and the node extras that say how: by ``labels`` (the qualitative
+    palette of :func:`service.gltf.label_colors`, with a legend of up to 64 labels), else by
+    index (viridis, :func:`service.gltf.index_colors`)."""
+    if labels is None:
+        return gltf.index_colors(n), {"colorBy": "index"}
+    colors = gltf.label_colors(labels)
+    extras: dict[str, Any] = {"colorBy": "labels"}
+    values, first = np.unique(labels, return_index=True)
+    if len(values) <= _LEGEND_MAX:
+        extras["legend"] = [{"label": _json_value(v), "color": [float(c) for c in colors[i]]}
+                            for v, i in zip(values, first)]
+    return colors, extras
 
 
 def _xyz(points: Any) -> np.ndarray:
@@ -102,48 +154,97 @@ def animation(outputs: Outputs, inputs: Inputs, name: str) -> bytes:
     frames = np.asarray(outputs["frames"], dtype=np.float64)
     faces = surface_triangles(frames[0], faces) if faces is not None and len(faces) else None
     # 2-D frames go as they are: the writer sets z = 0
-    return gltf.morph_animation_glb(frames, faces, times=_seconds(outputs.get("times")))
+    return gltf.morph_animation_glb(frames, faces, times=_seconds(outputs.get("times")),
+                                    extras={"role": "frames"},
+                                    scene_extras=_scene("animation"))
+
+
+def _layout_place(vertices: np.ndarray) -> tuple[np.ndarray, float]:
+    """Where the flat UV layout goes beside a mesh: the origin of its unit square and its
+    side, the mesh's largest extent (1 for a mesh of one point), to the right of the mesh
+    (+x) by a quarter side, centred on the mesh in y and z."""
+    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    side = float((hi - lo).max()) or 1.0
+    centre = (lo + hi) / 2
+    origin = np.array([hi[0] + 0.25 * side, centre[1] - side / 2, centre[2]])
+    return origin, side
 
 
 def uv_mesh(outputs: Outputs, inputs: Inputs, name: str) -> bytes:
-    """The ``mesh`` output (else the input mesh) textured by ``uv``."""
+    """The ``mesh`` output (else the input mesh) textured by ``uv`` with the checker, and
+    beside it the flat UV layout (the same triangles at ``(u, v, 0)``) with the same
+    texture, so that any viewer shows the unwrap and its distortion."""
     vertices, faces = _mesh_parts(outputs.get("mesh", inputs.get("mesh")))
-    return gltf.mesh_glb(_xyz(vertices), faces, uv=_unit_square(outputs["uv"]),
-                         name=name)
+    xyz = _xyz(vertices)
+    uv = _unit_square(outputs["uv"])
+    origin, side = _layout_place(xyz)
+    flat = origin + side * np.c_[uv, np.zeros(len(uv))]
+    return gltf.scene_glb([
+        {"vertices": xyz, "faces": faces, "uv": uv, "texture": CHECKER, "name": name,
+         "extras": {"role": "mesh"}},
+        {"vertices": flat, "faces": faces, "uv": uv, "texture": CHECKER, "name": "UV layout",
+         "extras": {"role": "uv-layout", "origin": [float(x) for x in origin],
+                    "scale": side}},
+    ], extras=_scene("uv_mesh"))
 
 
 def deformed_mesh(outputs: Outputs, inputs: Inputs, name: str) -> bytes:
-    """The ``mesh`` output."""
+    """The ``mesh`` output, and the handles' target positions as red points when the
+    inputs have handles."""
     vertices, faces = _mesh_parts(outputs["mesh"])
-    return gltf.mesh_glb(_xyz(vertices), faces, name=name)
+    parts: list[dict[str, Any]] = [{"vertices": _xyz(vertices), "faces": faces, "name": name,
+                                    "extras": {"role": "mesh"}}]
+    handles = inputs.get("handles")
+    if isinstance(handles, Handles) and len(handles.positions) \
+            and handles.positions.shape[1] <= 3:
+        parts.append({"vertices": _xyz(handles.positions), "color": HANDLE_COLOR,
+                      "name": "handles", "extras": {
+                          "role": "handles", "indices": np.asarray(handles.indices).tolist()}})
+    return gltf.scene_glb(parts, extras=_scene("deformed_mesh"))
 
 
 def layout(outputs: Outputs, inputs: Inputs, name: str) -> bytes:
-    """The ``positions`` output, with the input mesh's faces when a mesh was laid out."""
+    """The ``positions`` output, with the input mesh's faces when a mesh was laid out,
+    coloured by the input's ``labels`` when it has one per vertex, else by index."""
     mesh = inputs.get("mesh")
     faces = _mesh_parts(mesh)[1] if mesh is not None else None
-    return gltf.mesh_glb(_xyz(outputs["positions"]), faces, name=name)
+    positions = _xyz(outputs["positions"])
+    colors, extras = _colour_by(_labels_of(len(positions), inputs.get("labels")),
+                                len(positions))
+    return gltf.scene_glb([{"vertices": positions, "faces": faces, "colors": colors,
+                            "name": name, "extras": {"role": "layout", **extras}}],
+                          extras=_scene("layout"))
+
+
+def _labels_of(n: int, *sources: Any) -> np.ndarray | None:
+    """The first of ``sources`` that holds one label per point (of ``n``), or None."""
+    for source in sources:
+        if source is not None and np.ndim(source) == 1 and len(source) == n:
+            return np.asarray(source)
+    return None
 
 
 def clusters(outputs: Outputs, inputs: Inputs, name: str) -> bytes | None:
     """The input ``points`` coloured by ``labels``; None for a graph given without points."""
     if inputs.get("points") is None:
         return None
-    return gltf.mesh_glb(_xyz(inputs["points"]), None,
-                         colors=gltf.label_colors(outputs["labels"]), name=name)
+    points = _xyz(inputs["points"])
+    colors, extras = _colour_by(np.asarray(outputs["labels"]), len(points))
+    return gltf.scene_glb([{"vertices": points, "colors": colors, "name": name,
+                            "extras": {"role": "points", **extras}}],
+                          extras=_scene("clusters"))
 
 
 def embedding(outputs: Outputs, inputs: Inputs, name: str) -> bytes:
     """The ``embedding`` output, coloured by the input's ``labels`` (or the result's own
-    ``labels`` or ``predictions``) when one label per point is known."""
-    emb = np.asarray(outputs["embedding"])
-    labels = None
-    for source in (inputs.get("labels"), outputs.get("labels"), outputs.get("predictions")):
-        if source is not None and np.ndim(source) == 1 and len(source) == len(emb):
-            labels = np.asarray(source)
-            break
-    colors = gltf.label_colors(labels) if labels is not None else None
-    return gltf.mesh_glb(_xyz(emb), None, colors=colors, name=name)
+    ``labels`` or ``predictions``) when one label per point is known, else by index."""
+    emb = _xyz(outputs["embedding"])
+    labels = _labels_of(len(emb), inputs.get("labels"), outputs.get("labels"),
+                        outputs.get("predictions"))
+    colors, extras = _colour_by(labels, len(emb))
+    return gltf.scene_glb([{"vertices": emb, "colors": colors, "name": name,
+                            "extras": {"role": "points", **extras}}],
+                          extras=_scene("embedding"))
 
 
 def moved_source(outputs: Outputs, inputs: Inputs, name: str) -> bytes | None:
@@ -159,13 +260,18 @@ def moved_source(outputs: Outputs, inputs: Inputs, name: str) -> bytes | None:
         moved = _apply(outputs["transform"], src_v.astype(np.float64))
     return gltf.scene_glb([
         {"vertices": _xyz(moved), "faces": src_f, "color": SOURCE_COLOR,
-         "name": "source (moved)"},
-        {"vertices": _xyz(dst_v), "faces": dst_f, "color": TARGET_COLOR, "name": "target"},
-    ])
+         "name": "source (moved)", "extras": {"role": "moved"}},
+        {"vertices": _xyz(dst_v), "faces": dst_f, "color": TARGET_COLOR, "name": "target",
+         "extras": {"role": "target"}},
+        {"vertices": _xyz(src_v), "faces": src_f, "color": ORIGINAL_COLOR, "name": "source",
+         "extras": {"role": "source"}},
+    ], extras=_scene("moved_source"))
 
 
 def moved_sets(outputs: Outputs, inputs: Inputs, name: str) -> bytes:
     """Every input set moved by its row of ``transforms``, one node each."""
     sets = [np.asarray(s, dtype=np.float64) for s in inputs["sets"]]
-    return gltf.scene_glb([{"vertices": _xyz(_apply(t, s)), "name": f"set {i}"}
-                           for i, (t, s) in enumerate(zip(outputs["transforms"], sets))])
+    return gltf.scene_glb([{"vertices": _xyz(_apply(t, s)), "name": f"set {i}",
+                            "extras": {"role": "set", "set": i}}
+                           for i, (t, s) in enumerate(zip(outputs["transforms"], sets))],
+                          extras=_scene("moved_sets"))

@@ -11,11 +11,13 @@ import shutil
 import struct
 import subprocess
 import sys
+import zlib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-__all__ = ["validate", "VALIDATOR_DIR", "problems", "glb_with"]
+__all__ = ["validate", "VALIDATOR_DIR", "problems", "glb_with", "decode_png"]
 
 VALIDATOR_DIR = Path(__file__).resolve().parents[1] / "tools" / "gltf-validator"
 
@@ -71,3 +73,50 @@ def glb_with(glb: bytes, edit) -> bytes:  # noqa: ANN001
     rest = glb[20 + json_len:]
     body = struct.pack("<II", len(text), 0x4E4F534A) + text + rest
     return struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body
+
+
+def _paeth(a: int, b: int, c: int) -> int:
+    p = a + b - c
+    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+    return a if pa <= pb and pa <= pc else b if pb <= pc else c
+
+
+def decode_png(data: bytes) -> np.ndarray:
+    """An 8-bit RGB or RGBA, non-interlaced PNG as an (h, w, channels) uint8 array, read
+    from the PNG specification (signature, chunk CRCs, zlib, the five row filters), so that
+    a texture is checked without the code that wrote it or an imaging library."""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG signature"
+    pos, idat, header = 8, [], None
+    while pos < len(data):
+        (length,) = struct.unpack_from(">I", data, pos)
+        kind = data[pos + 4:pos + 8]
+        body = data[pos + 8:pos + 8 + length]
+        (crc,) = struct.unpack_from(">I", data, pos + 8 + length)
+        assert crc == zlib.crc32(kind + body) & 0xFFFFFFFF, f"bad CRC in {kind!r}"
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat.append(body)
+        elif kind == b"IEND":
+            break
+        pos += 12 + length
+    assert header is not None, "no IHDR"
+    w, h, depth, colour, _, _, interlace = header
+    assert depth == 8 and colour in (2, 6) and interlace == 0, header
+    bpp = 3 if colour == 2 else 4
+    raw = zlib.decompress(b"".join(idat))
+    stride = w * bpp
+    assert len(raw) == h * (stride + 1)
+    out = np.zeros((h, stride), dtype=np.uint8)
+    prev = [0] * stride
+    for r in range(h):
+        kind, line = raw[r * (stride + 1)], list(raw[r * (stride + 1) + 1:(r + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
+            b = prev[i]
+            c = prev[i - bpp] if i >= bpp else 0
+            pred = (0, a, b, (a + b) // 2, _paeth(a, b, c))[kind]
+            line[i] = (line[i] + pred) & 0xFF
+        out[r] = line
+        prev = line
+    return out.reshape(h, w, bpp)

@@ -18,15 +18,22 @@ import trimesh
 from scipy.spatial.distance import pdist
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.mesh import as_handles
+from service import scenes
 from service.gltf import (
+    CHECKER_LIGHT,
     check_glb,
+    checker_png,
+    index_colors,
     label_colors,
     mesh_glb,
     morph_animation_glb,
+    point_hints,
     read_glb,
     scene_glb,
+    y_up,
 )
-from tests.gltf_check import glb_with, validate
+from tests.gltf_check import decode_png, glb_with, validate
 
 FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
 
@@ -97,11 +104,68 @@ def kinds() -> dict[str, bytes]:
         "uint32 indices (65536 vertices)": mesh_glb(v32, f32),
     }
 
+    out.update({f"scene: {k}": v for k, v in scene_kinds().items()})
+    out["textured mesh (checker)"] = mesh_glb(m.vertices, m.faces, uv=uv, texture=checker_png(),
+                                              extras={"role": "mesh"})
+    out["turned y-up: two-part scene"] = y_up(out["two-part scene"])
+    out["turned y-up: morph animation"] = y_up(out["morph animation, 11 frames"])
+
     def wrong_max(doc):
         doc["accessors"][0]["max"] = [9.0, 9.0, 9.0]
 
     out["control: POSITION max tampered"] = glb_with(out["2-D triangle mesh"], wrong_max)
     return out
+
+
+# ------------------------------------------------------------------ the service's scenes
+
+TAB10 = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+         "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"]  # matplotlib's tab10
+
+
+def hex_rgb(h: str) -> list[float]:
+    return [int(h[i:i + 2], 16) / 255 for i in (1, 3, 5)]
+
+
+def uv_case() -> tuple[trimesh.Trimesh, np.ndarray]:
+    """An icosphere and UVs that are not in the unit square (scaled 3x, moved by 5)."""
+    m = icosphere()
+    return m, m.vertices[:, :2] * 3 + [5, -2]
+
+
+def labelled_points() -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(3)
+    return rng.normal(size=(40, 3)), rng.integers(0, 10, size=40)
+
+
+def scene_kinds() -> dict[str, bytes]:
+    """One GLB of every scene builder of service.scenes, on inputs made here."""
+    m, uv = uv_case()
+    pts, labels = labelled_points()
+    frames, faces = bending_frames(4)
+    strip, strip_faces = grid(4)
+    handles = as_handles({"indices": [0, 15], "positions": [[0, 0, 0], [1, 1, 0.5]]},
+                         None)
+    deformed = {"vertices": strip + [0, 0, 0.1], "faces": strip_faces}
+    return {
+        "uv_mesh": scenes.uv_mesh({"uv": uv}, {"mesh": {"vertices": m.vertices,
+                                                      "faces": m.faces}}, "parameterization.x"),
+        "embedding by labels": scenes.embedding({"embedding": pts[:, :2]}, {"labels": labels},
+                                                "embedding.x"),
+        "embedding by index": scenes.embedding({"embedding": pts}, {}, "embedding.x"),
+        "clusters": scenes.clusters({"labels": labels}, {"points": pts}, "clustering.x"),
+        "layout of a mesh": scenes.layout({"positions": strip[:, :2]},
+                                          {"mesh": {"vertices": strip, "faces": strip_faces}},
+                                          "layout.x"),
+        "layout of a graph": scenes.layout({"positions": pts[:, :2]}, {}, "layout.x"),
+        "moved_source": scenes.moved_source({"transform": np.diag([1.0, 1, 1, 1])},
+                                            {"source": pts, "target": pts + 1}, "alignment.x"),
+        "moved_sets": scenes.moved_sets({"transforms": [np.eye(4), np.eye(4)]},
+                                        {"sets": [pts, pts + 1]}, "registration.x"),
+        "deformed_mesh with handles": scenes.deformed_mesh({"mesh": deformed},
+                                                          {"handles": handles}, "deformation.x"),
+        "animation": scenes.animation({"frames": frames, "faces": faces}, {}, "interp.x"),
+    }
 
 
 # ------------------------------------------------------------------ the validator harness
@@ -123,6 +187,15 @@ def test_validator_reports_no_error_and_no_warning(reports, kind):
     assert issues["numErrors"] == 0, messages
     assert issues["numWarnings"] == 0, messages
     assert {(code, pointer) for code, pointer, _ in messages} <= ALLOWED, messages
+
+
+def test_validator_reads_the_checker_png(reports):
+    """The Khronos validator decodes the embedded image itself: a 512 x 512 RGB PNG."""
+    for kind in ("textured mesh (checker)", "scene: uv_mesh"):
+        (image,) = [r for r in reports[kind]["info"]["resources"] if r["pointer"] == "/images/0"]
+        assert image["mimeType"] == "image/png" and image["storage"] == "buffer-view"
+        assert (image["image"]["width"], image["image"]["height"]) == (512, 512)
+        assert image["image"]["format"] == "rgb" and image["image"]["bits"] == 8
 
 
 def test_validator_catches_a_broken_file(reports):
@@ -500,3 +573,243 @@ def test_check_glb_refuses_truncated_and_oversized_files():
         check_glb(b"solid cube\nendsolid\n", LIMIT)
     with pytest.raises(InvalidInputError, match="version 1, not 2"):
         check_glb(glb[:4] + struct.pack("<I", 1) + glb[8:], LIMIT)
+
+
+# ------------------------------------------------------------------ textures, colours, hints
+
+def test_checker_png_is_the_checker_it_says():
+    """Decoded by our own PNG reader (chunks, CRCs, zlib): texel (r, c) of a 512 x 512,
+    16 x 16 checker holds uv (u, v) = ((c + 1/2) / 512, 1 - (r + 1/2) / 512); its square
+    (floor(16 u), floor(16 v)) = (i, j) is light when i + j is even, else tinted red by i and
+    blue by j."""
+    img = decode_png(checker_png())
+    assert img.shape == (512, 512, 3)
+    for r, c in [(0, 0), (0, 511), (511, 0), (511, 511), (100, 37), (255, 256), (300, 480)]:
+        u, v = (c + 0.5) / 512, 1 - (r + 0.5) / 512
+        i, j = int(u * 16), int(v * 16)
+        if (i + j) % 2 == 0:
+            assert tuple(img[r, c]) == CHECKER_LIGHT, (r, c)
+        else:
+            assert tuple(img[r, c]) == (round(64 + 160 * i / 15), 90, round(64 + 160 * j / 15))
+    # pixel (row 0, col 0) is u ~ 0, v ~ 1: square (0, 15), odd, dark, least red, most blue
+    assert tuple(img[0, 0]) == (64, 90, 224)
+    small = decode_png(checker_png(8, 2))
+    assert (small[:4, :4] == small[0, 0]).all() and (small[0, 0] != small[0, 4]).any()
+    with pytest.raises(InvalidInputError, match="power of two"):
+        checker_png(500, 10)
+
+
+def test_uv_scene_is_textured_by_the_results_uv():
+    m, uv = uv_case()
+    glb = scene_kinds()["uv_mesh"]
+    out = read_glb(glb)
+    doc = out["json"]
+    unit = (uv - uv.min(axis=0)) / (uv.max(axis=0) - uv.min(axis=0)).max()  # aspect kept
+    names = [n["name"] for n in doc["nodes"]]
+    assert names == ["parameterization.x", "UV layout"]
+    assert [n["extras"]["role"] for n in doc["nodes"]] == ["mesh", "uv-layout"]
+    for mesh in (0, 1):
+        prim, a = primitive(out, mesh)
+        st = a["TEXCOORD_0"].astype(np.float64)
+        np.testing.assert_allclose(np.c_[st[:, 0], 1 - st[:, 1]], unit, atol=1e-6)
+        np.testing.assert_array_equal(a["indices"].reshape(-1, 3), m.faces)
+        pbr = doc["materials"][prim["material"]]["pbrMetallicRoughness"]
+        assert pbr["baseColorFactor"] == [1.0, 1.0, 1.0, 1.0]
+        assert doc["textures"][pbr["baseColorTexture"]["index"]]["source"] == 0
+    _, mesh_arrays = primitive(out, 0)
+    np.testing.assert_array_equal(mesh_arrays["POSITION"], m.vertices.astype(np.float32))
+    # one image, the checker, bytes as written
+    (image,) = doc["images"]
+    view = doc["bufferViews"][image["bufferView"]]
+    json_len = struct.unpack_from("<I", glb, 12)[0]
+    body = glb[28 + json_len:]
+    assert body[view["byteOffset"]:view["byteOffset"] + view["byteLength"]] == checker_png()
+    # the flat layout: origin + scale * (u, v, 0), to the right of the mesh
+    extras = doc["nodes"][1]["extras"]
+    _, flat = primitive(out, 1)
+    expected = np.asarray(extras["origin"]) + extras["scale"] * np.c_[unit, np.zeros(len(uv))]
+    np.testing.assert_allclose(flat["POSITION"], expected, atol=1e-5)
+    assert flat["POSITION"][:, 0].min() > m.vertices[:, 0].max()
+    assert extras["scale"] == pytest.approx(np.ptp(m.vertices, axis=0).max())
+    assert doc["scenes"][0]["extras"] == {"kind": "uv_mesh", "up": "y"}
+    # trimesh, a peer reader, finds the uv (it needs PIL, not installed, to load the image;
+    # the validator decodes it: test_validator_reads_the_checker_png)
+    got = load_trimesh(glb).geometry["parameterization.x"]
+    np.testing.assert_allclose(got.visual.uv, unit, atol=1e-6)
+
+
+def test_points_are_coloured_by_their_labels():
+    """The colour of point i is tab10[labels[i]] (matplotlib's hex codes), in embeddings and
+    clusterings alike; the legend lists each label once."""
+    pts, labels = labelled_points()
+    for kind in ("embedding by labels", "clusters"):
+        out = read_glb(scene_kinds()[kind])
+        prim, a = primitive(out)
+        np.testing.assert_allclose(a["COLOR_0"], [hex_rgb(TAB10[k]) for k in labels],
+                                   atol=1e-7)
+        node = out["json"]["nodes"][0]
+        assert node["extras"]["colorBy"] == "labels" and node["extras"]["role"] == "points"
+        legend = node["extras"]["legend"]
+        assert [e["label"] for e in legend] == sorted(set(labels.tolist()))
+        for e in legend:
+            np.testing.assert_allclose(e["color"], hex_rgb(TAB10[e["label"]]))
+        material = out["json"]["materials"][prim["material"]]
+        assert material["pbrMetallicRoughness"]["baseColorFactor"] == [1.0, 1.0, 1.0, 1.0]
+    out = read_glb(scene_kinds()["embedding by labels"])
+    _, a = primitive(out)
+    np.testing.assert_array_equal(a["POSITION"][:, 2], 0)  # 2-D embedding, z = 0
+
+
+def test_points_without_labels_are_coloured_by_index():
+    """viridis from #440154 (index 0) to #fde725 (the last), brighter with the index."""
+    for kind in ("embedding by index", "layout of a graph", "layout of a mesh"):
+        out = read_glb(scene_kinds()[kind])
+        _, a = primitive(out)
+        c = a["COLOR_0"].astype(np.float64)
+        np.testing.assert_allclose(c[0], hex_rgb("#440154"), atol=1e-6)
+        np.testing.assert_allclose(c[-1], hex_rgb("#fde725"), atol=1e-6)
+        luma = c @ [0.2126, 0.7152, 0.0722]
+        assert (np.diff(luma) > 0).all(), kind
+        assert out["json"]["nodes"][0]["extras"]["colorBy"] == "index"
+    # viridis at 0.5 is #21918c (matplotlib); the ten-colour interpolation is near it
+    np.testing.assert_allclose(index_colors(3)[1], hex_rgb("#21918c"), atol=0.02)
+    assert index_colors(0).shape == (0, 3) and index_colors(1).shape == (1, 3)
+
+
+def test_registration_scene_names_its_roles():
+    pts, _ = labelled_points()
+    out = read_glb(scene_kinds()["moved_source"])
+    doc = out["json"]
+    assert [n["name"] for n in doc["nodes"]] == ["source (moved)", "target", "source"]
+    assert [n["extras"]["role"] for n in doc["nodes"]] == ["moved", "target", "source"]
+    assert doc["scenes"][0]["extras"]["kind"] == "moved_source"
+    for mesh, expected in ((0, pts), (1, pts + 1), (2, pts)):
+        _, a = primitive(out, mesh)
+        np.testing.assert_allclose(a["POSITION"], expected, atol=1e-6)
+    for node in doc["nodes"]:  # point clouds: the size hints
+        assert node["extras"]["pointSize"] == 6
+        assert node["extras"]["pointSpacing"] == pytest.approx(
+            point_hints(pts)["pointSpacing"])
+    sets = read_glb(scene_kinds()["moved_sets"])["json"]["nodes"]
+    assert [(n["name"], n["extras"]["role"], n["extras"]["set"]) for n in sets] == [
+        ("set 0", "set", 0), ("set 1", "set", 1)]
+
+
+def test_deformation_scene_marks_the_handles():
+    out = read_glb(scene_kinds()["deformed_mesh with handles"])
+    doc = out["json"]
+    assert [n["extras"]["role"] for n in doc["nodes"]] == ["mesh", "handles"]
+    assert doc["nodes"][1]["extras"]["indices"] == [0, 15]
+    prim, a = primitive(out, 1)
+    assert prim["mode"] == 0
+    np.testing.assert_allclose(a["POSITION"], [[0, 0, 0], [1, 1, 0.5]])
+    anim = read_glb(scene_kinds()["animation"])["json"]
+    assert anim["nodes"][0]["extras"] == {"role": "frames"}
+    assert anim["scenes"][0]["extras"] == {"kind": "animation", "up": "y"}
+
+
+def test_point_hints_hand_cases():
+    # 100 points on a 10 x 10 grid of step 1: a 9 x 9 box, (81 / 100)^(1/2) = 0.9
+    u, v = np.meshgrid(np.arange(10.0), np.arange(10.0))
+    assert point_hints(np.c_[u.ravel(), v.ravel(), np.zeros(100)]) == {
+        "pointSize": 6, "pointSpacing": pytest.approx(0.9)}
+    assert point_hints(np.zeros((5, 3)))["pointSpacing"] == 1.0
+    assert point_hints(np.random.default_rng(0).normal(size=(20_000, 3)))["pointSize"] == 3
+    glb = read_glb(mesh_glb(np.eye(3), extras={"pointSize": 9}))
+    assert glb["json"]["nodes"][0]["extras"]["pointSize"] == 9  # the caller's wins
+    assert "extras" not in read_glb(mesh_glb(SQUARE, QUADS))["json"]["nodes"][0]
+
+
+def test_y_up_turns_plus_z_to_plus_y():
+    """The root node's quaternion rotates +z onto +y (computed here as R(q) e_z), and
+    trimesh, applying node transforms, finds (x, y, z) at (x, z, -y)."""
+    pts = np.random.default_rng(5).normal(size=(30, 3))
+    plain = mesh_glb(pts, name="scan")
+    turned = y_up(plain)
+    doc = read_glb(turned)["json"]
+    root = doc["nodes"][-1]
+    assert root["name"] == "z-up to y-up" and root["children"] == [0]
+    assert doc["scenes"][0]["nodes"] == [len(doc["nodes"]) - 1]
+    assert doc["scenes"][0]["extras"]["up"] == "z"
+    x, y, z, w = root["rotation"]
+    rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                    [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                    [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    np.testing.assert_allclose(rot @ [0, 0, 1], [0, 1, 0], atol=1e-12)
+    np.testing.assert_allclose(rot @ [0, 1, 0], [0, 0, -1], atol=1e-12)
+    dumped = load_trimesh(turned).to_geometry()
+    np.testing.assert_allclose(dumped.vertices, np.c_[pts[:, 0], pts[:, 2], -pts[:, 1]],
+                               atol=1e-6)
+    assert read_glb(turned)["accessors"][0].tobytes() == read_glb(plain)["accessors"][0].tobytes()
+    assert y_up(plain, up="y") == plain
+    with pytest.raises(InvalidInputError, match="'y' or 'z'"):
+        y_up(plain, up="x")
+
+
+@pytest.mark.parametrize("call, field, match", [
+    (lambda: mesh_glb(SQUARE, texture=checker_png(8, 2)), "texture", "triangle mesh with `uv`"),
+    (lambda: mesh_glb(SQUARE, QUADS, texture=checker_png(8, 2)), "texture", "with `uv`"),
+    (lambda: mesh_glb(SQUARE, QUADS, uv=SQUARE[:, :2], texture=b"GIF89a"), "texture", "PNG"),
+    (lambda: mesh_glb(SQUARE, extras=[1]), "extras", "dict"),
+    (lambda: mesh_glb(SQUARE, extras={"x": np.nan}), "extras", "JSON values"),
+    (lambda: scene_glb([{"vertices": SQUARE}], extras={"x": object()}), "extras", "JSON"),
+])
+def test_bad_textures_and_extras_are_refused(call, field, match):
+    with pytest.raises(InvalidInputError, match=match) as err:
+        call()
+    assert err.value.field == field
+
+
+# ------------------------------------------------------------------ through the service
+
+@pytest.mark.e2e
+def test_results_glb_turned_up_on_request(http) -> None:  # noqa: ANN001
+    from tests.live import execute
+
+    src = np.random.default_rng(2).normal(size=(30, 3))
+    r = execute(http, "alignment.rigid", {"source": src.tolist(),
+                                          "target": (src + [0, 0, 1]).tolist()})
+    assert r.status_code == 200, r.text
+    results = r.headers["content-location"]
+    plain = http.get(results, params={"f": "glb"})
+    turned = http.get(results, params={"f": "glb", "up": "z"})
+    assert plain.status_code == turned.status_code == 200
+    assert turned.headers["content-type"] == "model/gltf-binary"
+    assert turned.content == y_up(plain.content)
+    assert http.get(results, params={"f": "glb", "up": "y"}).content == plain.content
+    same = http.get(results, params={"f": "json", "up": "z"})
+    assert same.json() == http.get(results, params={"f": "json"}).json()
+    bad = http.get(results, params={"f": "glb", "up": "x"})
+    assert bad.status_code == 422 and "up" in bad.text
+
+
+@pytest.mark.e2e
+def test_service_glbs_colour_by_labels_and_texture_by_the_uv(http) -> None:  # noqa: ANN001
+    """Through the service: an LDA embedding's points are tab10[labels[i]] of the labels
+    sent; a Tutte parameterization's TEXCOORD_0 is the result's uv (moved and scaled into
+    the unit square, v flipped), with the checker as its texture."""
+    from tests.live import execute
+
+    rng = np.random.default_rng(4)
+    labels = np.repeat([2, 0, 5], 20)
+    pts = rng.normal(size=(60, 3)) + labels[:, None]
+    r = execute(http, "classification.lda", {"points": pts.tolist(),
+                                             "labels": labels.tolist(), "n_components": 2})
+    assert r.status_code == 200, r.text
+    glb = http.get(r.headers["content-location"], params={"f": "glb"})
+    _, a = primitive(read_glb(glb.content))
+    np.testing.assert_allclose(a["COLOR_0"], [hex_rgb(TAB10[k]) for k in labels], atol=1e-7)
+
+    vertices, faces = grid(5)
+    vertices[:, 2] = 0.3 * np.sin(np.pi * vertices[:, 0])  # a bent sheet: a disk
+    r = execute(http, "parameterization.tutte", {"mesh": {"vertices": vertices.tolist(),
+                                                          "faces": faces.tolist()}})
+    assert r.status_code == 200, r.text
+    uv = np.asarray(r.json()["uv"])
+    out = read_glb(http.get(r.headers["content-location"], params={"f": "glb"}).content)
+    prim, a = primitive(out)
+    unit = (uv - uv.min(axis=0)) / (uv.max(axis=0) - uv.min(axis=0)).max()
+    st = a["TEXCOORD_0"].astype(np.float64)
+    np.testing.assert_allclose(np.c_[st[:, 0], 1 - st[:, 1]], unit, atol=1e-6)
+    material = out["json"]["materials"][prim["material"]]
+    assert "baseColorTexture" in material["pbrMetallicRoughness"]
