@@ -1,8 +1,11 @@
 """The exceptions the SDK raises.
 
 Every error answer of the service is an RFC 9457 ``application/problem+json`` document whose
-``type`` ends in a stable slug (``/problems/invalid-input``); each slug has its own class, named
-after it, so callers catch exactly what they mean::
+``type`` ends in a stable slug: the service's own types (``/problems/invalid-input``) and the
+types OGC API – Processes defines
+(``http://www.opengis.net/def/exceptions/ogcapi-processes-1/1.0/no-such-job``) alike, and
+either form of a type maps to the same class. Each slug has its own class, named after it, so
+callers catch exactly what they mean::
 
     MorphserveError
      ├── TransportError            the server could not be reached, or the connection broke

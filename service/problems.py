@@ -1,7 +1,10 @@
 """Problem types (RFC 9457) of the service, without web dependencies (workers import this).
 
 Each type is a page the service serves at ``/problems/{slug}``; the SDK names its exception
-classes after the slugs.
+classes after the slugs. The errors OGC API – Processes defines (no such process, no such job,
+result not ready) have the standard's type URIs, which end in the same slugs
+(``http://www.opengis.net/def/exceptions/ogcapi-processes-1/1.0/no-such-job``); the others
+are ours, ``/problems/{slug}``.
 """
 
 from __future__ import annotations
@@ -11,8 +14,12 @@ from typing import Any
 
 from algorithms.core.errors import GeometryError
 
-__all__ = ["ProblemType", "PROBLEMS", "problem_body", "geometry_error_problem",
+__all__ = ["ProblemType", "PROBLEMS", "OGC_EXCEPTIONS", "problem_body", "geometry_error_problem",
            "dismissed_problem", "pydantic_errors"]
+
+
+#: Where the exception types of OGC API – Processes – Part 1 (1.0) are registered.
+OGC_EXCEPTIONS = "http://www.opengis.net/def/exceptions/ogcapi-processes-1/1.0/"
 
 
 @dataclass(frozen=True)
@@ -21,10 +28,12 @@ class ProblemType:
     status: int
     title: str
     description: str
+    ogc: bool = False
+    """The type is one the standard defines: its URI is the standard's."""
 
     @property
     def uri(self) -> str:
-        return f"/problems/{self.slug}"
+        return OGC_EXCEPTIONS + self.slug if self.ogc else f"/problems/{self.slug}"
 
 
 PROBLEMS: dict[str, ProblemType] = {
@@ -37,14 +46,14 @@ PROBLEMS: dict[str, ProblemType] = {
                     "The request body could not be parsed (not JSON, or not the execute "
                     "request's shape)."),
         ProblemType("no-such-process", 404, "No such process",
-                    "No process has this id. `GET /processes` lists them."),
+                    "No process has this id. `GET /processes` lists them.", ogc=True),
         ProblemType("no-such-job", 404, "No such job",
-                    "No job has this id, or it was dismissed and removed."),
+                    "No job has this id, or it was dismissed and removed.", ogc=True),
         ProblemType("no-such-output", 404, "No such output",
                     "The job has no output of this name; its results document lists them."),
         ProblemType("result-not-ready", 404, "Result not ready",
                     "The job has not finished yet. Poll `GET /jobs/{jobId}` until its status "
-                    "is `successful`."),
+                    "is `successful`.", ogc=True),
         ProblemType("job-failed", 500, "Job failed",
                     "The job failed for a reason that is not the input's fault."),
         ProblemType("job-dismissed", 410, "Job dismissed",

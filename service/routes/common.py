@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from difflib import SequenceMatcher
+from typing import Annotated, Any, Literal
+from urllib.parse import quote
 
 import numpy as np
-from fastapi import Request
+from fastapi import Query, Request
 from starlette.responses import Response
 
 from service.auth import KeyRing, owner_of
 from service.binary import encode_arrays
-from service.catalog import Process, lookup
+from service.catalog import Process, lookup, processes
 from service.errors import ServiceError, problem_response
 from service.geometry_io import (
     MEDIA_GLB,
@@ -30,7 +32,7 @@ from service.representation import results_document, status_info
 from service.settings import Settings
 
 __all__ = ["State", "state", "owner", "get_process", "read_body", "parse_prefer", "job_response",
-           "get_job", "Wanted", "results_response"]
+           "get_job", "Wanted", "results_response", "base_url", "PageFormat", "with_html"]
 
 
 @dataclass
@@ -47,16 +49,88 @@ def state(request: Request) -> State:
     return st
 
 
+def _forwarded(request: Request, name: str) -> str | None:
+    """The first value of an ``X-Forwarded-*`` header (a chain of proxies lists several,
+    the client's first)."""
+    value = request.headers.get(name)
+    first = value.split(",", 1)[0].strip() if value else ""
+    return first or None
+
+
+def base_url(request: Request) -> str:
+    """The service's root URL as the client reached it, without a final slash: the setting
+    ``public_url`` when set, else the request's scheme and host, replaced by the
+    ``X-Forwarded-Proto``/``X-Forwarded-Host`` a proxy sets, followed by its
+    ``X-Forwarded-Prefix`` (a service mounted at ``/morphserve`` behind the proxy).
+    Every link and ``Location`` the service answers starts with it."""
+    public: str | None = state(request).settings.public_url
+    if public:
+        return public.rstrip("/")
+    scheme = _forwarded(request, "x-forwarded-proto") or request.url.scheme
+    host = _forwarded(request, "x-forwarded-host") or request.url.netloc
+    prefix = (_forwarded(request, "x-forwarded-prefix") or "").strip("/")
+    if scheme not in ("http", "https") or any(c in host for c in "/?#@ \\"):
+        scheme, host = request.url.scheme, request.url.netloc  # not a URL's parts: ignored
+    prefix = "/" + quote(prefix, safe="/-._~") if prefix else ""
+    return f"{scheme}://{host}{prefix}"
+
+
+#: The ``f`` query parameter of the documents that have an HTML page (/, /processes,
+#: /processes/{id}, /jobs, /jobs/{id}). :class:`service.html.middleware.HtmlMiddleware`
+#: answers ``f=html`` (and a browser's Accept header) before the route runs; ``f=json``, or
+#: no ``f`` and an Accept header that does not prefer HTML, reaches the route, which answers
+#: JSON. Declared on the routes so that the API definition shows it.
+PageFormat = Annotated[Literal["json", "html"] | None, Query(
+    description="The representation, instead of the Accept header: json (the document) or "
+    "html (the page a browser shows).")]
+
+
+def with_html(responses: dict[int | str, dict[str, Any]]) -> dict[int | str, dict[str, Any]]:
+    """``responses`` (:func:`service.routes.docs.responses`) whose 200 may also be the
+    document's HTML page (``text/html``), as for a :data:`PageFormat` route."""
+    ok = dict(responses.get(200, {"description": "OK"}))
+    ok["content"] = {**ok.get("content", {}),
+                     "text/html": {"schema": {"type": "string"}}}
+    return {**responses, 200: ok}
+
+
 def owner(st: State, request: Request) -> str | None:
     """Whose jobs this request may see: its key's owner, or None (all) on an open service."""
     return owner_of(request) if st.keyring is not None else None
 
 
+def closest_processes(wanted: str, offered: list[str], n: int = 3) -> list[str]:
+    """The ids of ``offered`` a mistyped process id most likely meant, best first (at most
+    ``n``, none when nothing is close). An id scores the better of its likeness to ``wanted``
+    as a whole (``registraton.icp``) and its method name's likeness to the one wanted
+    (``icp``, ``alignment.icp``), the latter a little less outside the family named; only
+    ids scoring nearly as well as the best are kept, so a clear match comes alone."""
+    wanted = wanted.lower()
+    family, _, method = wanted.rpartition(".")
+
+    def score(candidate: str) -> float:
+        their_family, _, their_method = candidate.lower().partition(".")
+        by_method = SequenceMatcher(None, method, their_method).ratio()
+        if their_family != family:
+            by_method -= 0.05
+        return max(SequenceMatcher(None, wanted, candidate.lower()).ratio(), by_method)
+
+    scored = sorted(((score(c), c) for c in offered), key=lambda sc: -sc[0])
+    if not scored or scored[0][0] < 0.6:
+        return []
+    best = scored[0][0]
+    return [c for sc, c in scored[:n] if sc >= max(0.6, best - 0.05)]
+
+
 def get_process(st: State, process_id: str) -> Process:
     process = lookup(process_id, test_processes=st.settings.test_processes)
     if process is None:
-        raise ServiceError("no-such-process", f"No process {process_id!r}; GET /processes "
-                           "lists the processes offered.")
+        offered = [p.id for p in processes(test_processes=st.settings.test_processes)]
+        guesses = closest_processes(process_id, offered)
+        hint = (" Did you mean " + " or ".join(f"`{g}`" for g in guesses) + "?"
+                if guesses else "")
+        raise ServiceError("no-such-process", f"No process `{process_id}`.{hint} "
+                           "GET /processes lists the processes offered.")
     return process
 
 
@@ -106,17 +180,20 @@ def parse_prefer(values: list[str]) -> dict[str, str | None]:
 
 @dataclass(frozen=True)
 class Wanted:
-    """How the client wants results: ``fmt`` json, glb or npy (:func:`negotiate`), and
-    whether JSON should carry arrays as typed binary arrays (``Prefer: arrays=binary``)."""
+    """How the client wants results: ``fmt`` json, glb or npy (:func:`negotiate`),
+    whether JSON should carry arrays as typed binary arrays (``Prefer: arrays=binary``), and
+    ``base``, the root URL the client reached the service at (:func:`base_url`), which the
+    ``Location`` and ``Link`` headers of the answer start with."""
 
     fmt: str = "json"
     binary_arrays: bool = False
+    base: str = ""
 
     @classmethod
     def of(cls, request: Request, f: str | None = None) -> Wanted:
         prefs = parse_prefer(request.headers.getlist("prefer"))
         return cls(negotiate(request.headers.get("accept"), f),
-                   prefs.get("arrays") == "binary")
+                   prefs.get("arrays") == "binary", base_url(request))
 
 
 def results_response(st: State, job: JobRecord, outputs: dict[str, Any], wanted: Wanted,
@@ -163,25 +240,30 @@ def job_response(st: State, job: JobRecord, outcome: Outcome | None,
     """How an execution request is answered once its job is as far as it will get: the
     results (200), the failure as a problem, or the statusInfo (201) of a job still under way
     or of one the client asked to run asynchronously (``waited`` false)."""
-    headers = {"Link": f'</jobs/{job.id}>; rel="monitor"'}
+    base = wanted.base
+    # rel=monitor as a bare token (RFC 8288 allows it, and clients that look for the text
+    # "rel=monitor" find it): the job's status, for results answered synchronously too
+    headers = {"Link": f"<{base}/jobs/{job.id}>; rel=monitor"}
     if not waited:
-        headers["Location"] = f"/jobs/{job.id}"
+        headers["Location"] = f"{base}/jobs/{job.id}"
         if applied:
             headers["Preference-Applied"] = applied
-        return JSONResponse(status_info(job), status_code=201, headers=headers)
+        return JSONResponse(status_info(job, base), status_code=201, headers=headers)
     if job.status is JobStatus.SUCCESSFUL:
         outputs = outcome.outputs if outcome is not None and outcome.outputs is not None \
             else st.store.result(job.id)
+        # relative, as RFC 9110 allows: clients take the job id from it; the links and
+        # Location, which clients follow, are absolute
         headers["Content-Location"] = f"/jobs/{job.id}/results"
         if applied:
             headers["Preference-Applied"] = applied
         return results_response(st, job, outputs, wanted, headers)
     if job.status in (JobStatus.FAILED, JobStatus.DISMISSED):
         return failure_response(job, headers)
-    headers["Location"] = f"/jobs/{job.id}"
+    headers["Location"] = f"{base}/jobs/{job.id}"
     if applied:
         headers["Preference-Applied"] = "respond-async"
-    return JSONResponse(status_info(job), status_code=201, headers=headers)
+    return JSONResponse(status_info(job, base), status_code=201, headers=headers)
 
 
 def failure_response(job: JobRecord, headers: dict[str, str] | None = None) -> JSONResponse:

@@ -49,6 +49,7 @@ class ProcessSummary(_Open):
 class ProcessList(_Open):
     processes: list[ProcessSummary]
     links: list[Link]
+    numberMatched: int = Field(description="Processes offered, on every page together.")
 
 
 class InputDescription(_Open):
@@ -81,11 +82,12 @@ class StatusInfo(_Open):
     processID: str
     type: Literal["process"]
     status: StatusName
-    message: str
-    created: str | None
-    started: str | None
-    finished: str | None
-    updated: str | None
+    # members without a value yet (started of an accepted job) are left out, not null
+    message: str = Field(default_factory=str, description="Left out when there is nothing to say.")
+    created: str = Field(default_factory=str, description="Left out when unknown.")
+    started: str = Field(default_factory=str, description="Left out until the job starts.")
+    finished: str = Field(default_factory=str, description="Left out until the job ends.")
+    updated: str = Field(default_factory=str, description="Left out when unknown.")
     progress: int = Field(ge=0, le=100)
     links: list[Link]
 

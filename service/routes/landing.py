@@ -9,8 +9,14 @@ from service.catalog import processes
 from service.errors import ServiceError
 from service.jsonio import JSONResponse
 from service.metrics import render
+from service.representation import (
+    REL_CONFORMANCE,
+    REL_JOB_LIST,
+    REL_PROCESSES,
+    html_alternate,
+)
 from service.routes import docs
-from service.routes.common import state
+from service.routes.common import PageFormat, base_url, state, with_html
 
 router = APIRouter(tags=["service"])
 
@@ -20,11 +26,13 @@ CONFORMANCE = [OGC + c for c in ("core", "ogc-process-description", "json", "job
 
 
 @router.get("/", operation_id="getLandingPage", summary="Landing page",
-            responses=docs.responses(docs.LandingPage))
-async def landing() -> JSONResponse:
-    def link(href: str, rel: str, title: str, type_: str = "application/json"
+            responses=with_html(docs.responses(docs.LandingPage)))
+async def landing(request: Request, f: PageFormat = None) -> JSONResponse:
+    base = base_url(request)
+
+    def link(path: str, rel: str, title: str, type_: str = "application/json"
              ) -> dict[str, str]:
-        return {"href": href, "rel": rel, "type": type_, "title": title}
+        return {"href": base + path, "rel": rel, "type": type_, "title": title}
 
     return JSONResponse({
         "title": "morphserve",
@@ -32,14 +40,13 @@ async def landing() -> JSONResponse:
                        "deformation, parameterization, embedding.",
         "links": [
             link("/", "self", "this document"),
+            html_alternate(base + "/", "this document as a web page"),
             link("/openapi.json", "service-desc", "the API definition",
                  "application/vnd.oai.openapi+json;version=3.0"),
             link("/docs", "service-doc", "the API documentation", "text/html"),
-            link("/conformance", "http://www.opengis.net/def/rel/ogc/1.0/conformance",
-                 "conformance classes"),
-            link("/processes", "http://www.opengis.net/def/rel/ogc/1.0/processes",
-                 "the processes"),
-            link("/jobs", "http://www.opengis.net/def/rel/ogc/1.0/job-list", "the jobs"),
+            link("/conformance", REL_CONFORMANCE, "conformance classes"),
+            link("/processes", REL_PROCESSES, "the processes"),
+            link("/jobs", REL_JOB_LIST, "the jobs"),
         ],
     })
 

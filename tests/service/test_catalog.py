@@ -141,9 +141,12 @@ def _check_json_schema(s: Any, where: str) -> None:
     for key in ("minItems", "maxItems"):
         if key in s:
             assert isinstance(s[key], int) and s[key] >= 0, (where, key)
-    for key in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
+    for key in ("minimum", "maximum"):
         if key in s:
             assert isinstance(s[key], int | float) and not isinstance(s[key], bool), (where, key)
+    for key, bound in (("exclusiveMinimum", "minimum"), ("exclusiveMaximum", "maximum")):
+        if key in s:  # OpenAPI 3.0: a flag on the bound
+            assert isinstance(s[key], bool) and bound in s, (where, key)
     if "enum" in s:
         assert isinstance(s["enum"], list) and s["enum"], where
     if "examples" in s:
@@ -165,14 +168,15 @@ def test_process_description(p: Process) -> None:
     for name, inp in desc["inputs"].items():
         schema = inp["schema"]
         assert isinstance(schema, dict)
-        assert "type" in schema or "anyOf" in schema, (p.id, name, schema)
+        assert "type" in schema or "oneOf" in schema, (p.id, name, schema)
         _check_json_schema(schema, f"{p.id}.{name}")
         required = p.params.model_fields[name].is_required()
         assert inp["minOccurs"] == (1 if required else 0), (p.id, name)
         assert inp["maxOccurs"] == 1
         assert inp["title"] and inp["description"]
-        if not required:
-            assert "default" in schema, (p.id, name)
+        if not required:  # a default of None is left out (an omitted input is None)
+            default = p.params.model_fields[name].default
+            assert ("default" in schema) == (default is not None), (p.id, name)
     assert set(desc["outputs"]) == set(p.outputs)
     for name, out in desc["outputs"].items():
         assert out["description"] and out["schema"]

@@ -60,7 +60,7 @@ def test_async_submit_and_poll(http) -> None:
     assert r.status_code == 201, r.text
     assert r.headers["preference-applied"] == "respond-async"
     info = r.json()
-    assert r.headers["location"] == f"/jobs/{info['jobID']}"
+    assert r.headers["location"] == f"{str(http.base_url).rstrip('/')}/jobs/{info['jobID']}"
     assert info["status"] in ("accepted", "running", "successful")
     assert info["processID"] == "alignment.rigid" and info["type"] == "process"
     done = wait_for_status(http, info["jobID"])

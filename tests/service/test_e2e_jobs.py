@@ -9,6 +9,7 @@ import time
 
 import pytest
 
+from service.problems import OGC_EXCEPTIONS
 from tests.live import wait_for_status
 
 pytestmark = pytest.mark.e2e
@@ -73,7 +74,7 @@ def test_dismiss_finished_job_removes_it(http) -> None:
     wait_for_status(http, job)
     assert http.delete(f"/jobs/{job}").json()["status"] == "dismissed"
     r = http.get(f"/jobs/{job}")
-    assert r.status_code == 404 and r.json()["type"] == "/problems/no-such-job"
+    assert r.status_code == 404 and r.json()["type"] == OGC_EXCEPTIONS + "no-such-job"
     assert http.delete(f"/jobs/{job}").status_code == 404
 
 
@@ -94,7 +95,7 @@ def test_time_limit_fails_the_job_with_a_clear_message(http) -> None:
 def test_result_not_ready(http) -> None:
     job = _sleep(http, 2, 20)
     r = http.get(f"/jobs/{job}/results")
-    assert r.status_code == 404 and r.json()["type"] == "/problems/result-not-ready"
+    assert r.status_code == 404 and r.json()["type"] == OGC_EXCEPTIONS + "result-not-ready"
     http.delete(f"/jobs/{job}")
 
 

@@ -239,7 +239,8 @@ def test_json_response_renders_numpy() -> None:
 # -- problems ------------------------------------------------------------------------------
 def test_problem_body() -> None:
     body = problem_body("no-such-job", "No job 'x'.")
-    assert body == {"type": "/problems/no-such-job", "title": "No such job", "status": 404,
+    assert body == {"type": "http://www.opengis.net/def/exceptions/ogcapi-processes-1/1.0/"
+                            "no-such-job", "title": "No such job", "status": 404,
                     "detail": "No job 'x'."}
     body = problem_body("invalid-input", "bad", instance="/processes/a/execution",
                         errors=[{"input": "k", "message": "too small"}], status=400)
@@ -253,7 +254,10 @@ def test_problem_body() -> None:
 
 def test_problem_registry() -> None:
     for slug, p in PROBLEMS.items():
-        assert p.slug == slug and p.uri == f"/problems/{slug}"
+        ogc = slug in ("no-such-process", "no-such-job", "result-not-ready")  # the standard's
+        assert p.slug == slug and p.uri == (
+            f"http://www.opengis.net/def/exceptions/ogcapi-processes-1/1.0/{slug}" if ogc
+            else f"/problems/{slug}")
         assert 400 <= p.status < 600 and p.title and p.description
         assert problem_body(slug, "d")["status"] == p.status
 
@@ -332,20 +336,27 @@ def test_status_info(status: str) -> None:
     assert info["type"] == "process" and info["status"] == status
     assert info["message"] == status and info["progress"] == job.progress
     for key in ("created", "started", "finished", "updated"):
-        value = info[key]
+        value = info.get(key)
         if getattr(job, key) is None:
-            assert value is None
+            assert key not in info  # omitted, not null (the standard's statusInfo.yaml)
         else:
             assert value.endswith("Z") and "+" not in value, value
     assert info["created"] == "2023-11-14T22:13:20.000Z"
     rels = [link["rel"] for link in info["links"]]
-    assert rels[:2] == ["self", "up"]
-    assert info["links"][0]["href"] == "/jobs/j-1"
-    assert info["links"][1]["href"] == "/processes/alignment.rigid"
+    assert rels[:3] == ["self", "monitor", "up"]
+    assert info["links"][0]["href"] == info["links"][1]["href"] == "/jobs/j-1"
+    assert info["links"][2]["href"] == "/processes/alignment.rigid"
+    # the job's page: one alternate, HTML, the status's URL with f=html
+    assert [link for link in info["links"] if link["rel"] == "alternate"] == [
+        {"href": "/jobs/j-1?f=html", "rel": "alternate", "type": "text/html",
+         "title": "this job's status as a web page"}]
     if status == "successful":
         assert rels.count("results") == 1
         (results,) = [link for link in info["links"] if link["rel"] == "results"]
         assert results["href"] == "/jobs/j-1/results"
+        ogc_rel = "http://www.opengis.net/def/rel/ogc/1.0/results"
+        assert [link["href"] for link in info["links"] if link["rel"] == ogc_rel] == \
+            ["/jobs/j-1/results"]
     else:
         assert "results" not in rels
     assert type(info["status"]) is str and isinstance(job.status, JobStatus)
