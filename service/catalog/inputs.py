@@ -197,8 +197,9 @@ def _graph_schema(description: str) -> dict[str, Any]:
                       "edge.", "items": {"type": "array", "items": {"type": "integer",
                                                                       "minimum": 0},
                                          "minItems": 2, "maxItems": 2}},
-            "weights": {"type": "array", "items": {"type": "number", "minimum": 0},
-                        "description": "Optional: one non-negative number per edge."},
+            "weights": {"type": ["array", "null"], "items": {"type": "number", "minimum": 0},
+                        "description": "Optional: one non-negative number per edge (left "
+                        "out or null: every edge weighs 1)."},
         },
         "required": ["nodes", "edges"],
         "additionalProperties": False,
