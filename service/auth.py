@@ -27,12 +27,23 @@ from typing import Any
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 __all__ = ["KeyRing", "KeyFileError", "AuthMiddleware", "hash_key", "new_key", "key_line",
-           "owner_of", "OPEN_PATHS"]
+           "owner_of", "OPEN_PATHS", "is_open"]
 
 log = logging.getLogger("morphserve")
 
-#: Routes that answer without a key (probes of orchestrators carry no credentials).
-OPEN_PATHS = frozenset({"/healthz", "/readyz"})
+#: Routes that answer without a key: the probes (orchestrators carry no credentials) and the
+#: API's own description, which holds no one's data.
+OPEN_PATHS = frozenset({"/healthz", "/readyz", "/openapi.json"})
+
+#: Static pages and their assets (the workbench, the API documentation): a browser loads them
+#: with no way to send a key; the workbench then sends the key its user types to the API.
+OPEN_TREES = ("/ui", "/docs")
+
+
+def is_open(path: str) -> bool:
+    """Whether ``path`` answers without a key: an open path, or one of the static trees
+    (``/ui``, ``/ui/app.js``; not ``/uix``)."""
+    return path in OPEN_PATHS or any(path == t or path.startswith(t + "/") for t in OPEN_TREES)
 
 _NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
 _LINE = re.compile(r"(?P<name>\S+)\s+sha256:(?P<hex>[0-9a-fA-F]{64})")
@@ -137,7 +148,7 @@ class AuthMiddleware:
         self.keyring = keyring
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http" or self.keyring is None or scope["path"] in OPEN_PATHS:
+        if scope["type"] != "http" or self.keyring is None or is_open(scope["path"]):
             await self.app(scope, receive, send)
             return
         token = None

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from service.auth import KeyFileError, KeyRing, hash_key, key_line, new_key, parse_keys
+from service.auth import KeyFileError, KeyRing, hash_key, is_open, key_line, new_key, parse_keys
 
 
 def test_key_line_round_trips_and_stores_the_sha256() -> None:
@@ -58,3 +58,12 @@ def test_keyring_refuses_a_missing_or_broken_file_at_start(tmp_path: Path) -> No
     (tmp_path / "bad").write_text("x y\n")
     with pytest.raises(KeyFileError, match="line 1"):
         KeyRing(tmp_path / "bad")
+
+
+@pytest.mark.parametrize(("path", "open_"), [
+    ("/healthz", True), ("/openapi.json", True), ("/ui", True), ("/ui/vendor/three/x.js", True),
+    ("/docs", True), ("/docs/assets/swagger-ui.css", True), ("/uix", False),
+    ("/docsx/a", False), ("/jobs", False), ("/processes/ui", False), ("/", False),
+])
+def test_only_probes_the_description_and_static_trees_are_open(path: str, open_: bool) -> None:
+    assert is_open(path) is open_

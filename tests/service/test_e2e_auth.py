@@ -68,8 +68,8 @@ def test_the_keys_file_holds_hashes_only_and_is_private(keyed) -> None:
 
 
 @pytest.mark.parametrize("path", ["/", "/conformance", "/processes", "/jobs",
-                                  "/processes/alignment.rigid", "/openapi.json"])
-def test_every_route_but_health_needs_a_key(keyed, path: str) -> None:
+                                  "/processes/alignment.rigid"])
+def test_every_route_but_health_and_static_pages_needs_a_key(keyed, path: str) -> None:
     srv, k = keyed
     for key, says in ((None, "needs an API key"), ("msk_wrong", "not valid")):
         with as_(srv, key) as c:
@@ -89,6 +89,16 @@ def test_health_answers_without_a_key(keyed) -> None:
     with as_(srv, None) as c:
         assert c.get("/healthz").status_code == 200
         assert c.get("/readyz").status_code == 200
+
+
+@pytest.mark.parametrize("path", ["/openapi.json", "/ui", "/ui/app.js", "/docs"])
+def test_the_static_pages_and_the_api_description_answer_without_a_key(keyed,
+                                                                       path: str) -> None:
+    """A browser loads the workbench and the API documentation with no way to send a key;
+    they hold no one's data, and what they then ask the API for needs the key."""
+    srv, _ = keyed
+    with as_(srv, None) as c:
+        assert c.get(path).status_code == 200, path
 
 
 def test_posting_without_a_key_creates_no_job(keyed) -> None:
