@@ -6,15 +6,28 @@
 ...     job.wait(progress=True)
 ...     transform = job.results()["transform"]
 
-:class:`AsyncClient` offers the same API with ``async`` methods. Errors are the classes of
-:mod:`morphserve._exceptions` (all re-exported here), one per problem type of the service.
+:class:`AsyncClient` offers the same API with ``async`` methods. ``client.map(process,
+[inputs, ...])`` runs a batch of jobs; :func:`as_completed` yields jobs as they end. Errors are
+the classes of :mod:`morphserve._exceptions` (all re-exported here), one per problem type of
+the service, and :class:`NoSuchFile` for a path that names no file.
 """
 
 from . import _exceptions
-from ._client import DEFAULT_URL, MAX_LISTED_JOBS, AsyncClient, AsyncJob, Client, Job, __version__
+from ._batch import BatchItem
+from ._client import (
+    DEFAULT_URL,
+    MAX_LISTED_JOBS,
+    AsyncClient,
+    AsyncJob,
+    Client,
+    Job,
+    __version__,
+    as_completed,
+)
 from ._exceptions import *  # noqa: F403  the exception tree; its __all__ names each class
+from ._geometry import NoSuchFile
 from ._models import JOB_STATES, JobStatus, ProcessDescription, ProcessSummary, Results
-from ._progress import ProgressBar
+from ._progress import ProgressBar, ProgressDisplay
 
 __all__ = [
     "DEFAULT_URL",
@@ -22,13 +35,17 @@ __all__ = [
     "MAX_LISTED_JOBS",
     "AsyncClient",
     "AsyncJob",
+    "BatchItem",
     "Client",
     "Job",
     "JobStatus",
+    "NoSuchFile",
     "ProcessDescription",
     "ProcessSummary",
     "ProgressBar",
+    "ProgressDisplay",
     "Results",
     "__version__",
+    "as_completed",
 ]
 __all__ += _exceptions.__all__

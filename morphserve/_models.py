@@ -21,6 +21,7 @@ import numpy as np
 import pybase64  # SIMD base64: 30x binascii's speed on large arrays
 
 from ._exceptions import ProtocolError
+from ._geometry import as_geometry, output_geometry, to_open3d, to_pyvista
 
 __all__ = [
     "JOB_STATES",
@@ -195,6 +196,9 @@ class Results(Mapping[str, Any]):
         - ``.glb``: the result's geometry as glTF binary, made by the service (a moved source
           over its target, a deformed or UV-mapped mesh, an embedding coloured by label, an
           interpolation as a morph-target animation); opens in Blender or a browser viewer.
+        - ``.ply``, ``.obj``, ``.stl``, ``.off``: the mesh or points of the results (the
+          output named ``output``, by default as :meth:`to_trimesh` picks it), written by
+          trimesh; .stl and .off need a mesh, .ply and .obj also take points.
         - ``.npy``: one array output (``output`` names it unless the results hold just one).
         - ``.json``: the results document.
 
@@ -216,8 +220,16 @@ class Results(Mapping[str, Any]):
             np.save(buf, np.asarray(self[output]), allow_pickle=False)
             target.write_bytes(buf.getvalue())
             return target
+        if suffix in MESH_SUFFIXES:
+            geometry = self.to_trimesh(output)
+            if suffix in (".stl", ".off") and not hasattr(geometry, "faces"):
+                raise ValueError(f"A {suffix} file holds a mesh; these results give points "
+                                 "(save them as .ply or .obj).")
+            target.write_bytes(_exported(geometry, suffix))
+            return target
         if suffix != ".glb":
-            raise ValueError(f"Expected a path ending in .glb, .npy or .json, got {str(path)!r}.")
+            raise ValueError(f"Expected a path ending in .glb, .ply, .obj, .stl, .off, .npy "
+                             f"or .json, got {str(path)!r}.")
         if self._download is None:
             raise TypeError("These results were not fetched by a synchronous Client; use "
                             "`await job.save(path)` with an AsyncClient.")
@@ -225,32 +237,35 @@ class Results(Mapping[str, Any]):
         return target
 
     def to_trimesh(self, name: str | None = None) -> Any:
-        """An output as a ``trimesh`` object (trimesh must be installed): a mesh output
-        (``{vertices, faces}``) as ``trimesh.Trimesh`` (with ``uv`` as its texture
-        coordinates when the results have them), an (n, 2|3) array as ``trimesh.PointCloud``.
-        ``name`` defaults to ``mesh``, else the first array of points."""
+        """An output as a ``trimesh`` object: a mesh output (``{vertices, faces}``) as
+        ``trimesh.Trimesh`` (with ``uv`` as its texture coordinates when the results have
+        them), an (n, 2|3) array as ``trimesh.PointCloud`` (2-D coordinates in z = 0).
+        ``name`` defaults to the first of ``mesh``, ``moved``, ``positions``,
+        ``mean_shape``, ``embedding``, ``uv`` the results hold."""
         import trimesh
 
-        if name is None:
-            name = "mesh" if "mesh" in self._values else next(
-                (k for k, v in self._values.items() if isinstance(v, np.ndarray)
-                 and v.ndim == 2 and v.shape[1] in (2, 3) and v.dtype.kind == "f"), None)
-            if name is None:
-                raise ValueError("These results hold no mesh or points.")
-        value = self[name]
-        if isinstance(value, dict) and "vertices" in value:
-            vertices = _as_3d(np.asarray(value["vertices"], dtype=np.float64))
-            mesh = trimesh.Trimesh(vertices, np.asarray(value["faces"]), process=False)
-            if "uv" in self._values and len(self["uv"]) == len(vertices):
-                # trimesh does not annotate this constructor
-                mesh.visual = trimesh.visual.TextureVisuals(  # type: ignore[no-untyped-call]
-                    uv=np.asarray(self["uv"]))
-            return mesh
-        array = np.asarray(value, dtype=np.float64)
-        if array.ndim != 2 or array.shape[1] not in (2, 3):
-            raise ValueError(f"The output {name!r} is not a mesh or (n, 2|3) points.")
-        # trimesh does not annotate this constructor
-        return trimesh.PointCloud(_as_3d(array))  # type: ignore[no-untyped-call]
+        geometry, name = output_geometry(self._values, name)
+        if geometry.faces is None:
+            # trimesh does not annotate this constructor
+            return trimesh.PointCloud(geometry.vertices)  # type: ignore[no-untyped-call]
+        mesh = trimesh.Trimesh(geometry.vertices, geometry.faces, process=False)
+        uv = self._values.get("uv")
+        if name == "mesh" and isinstance(uv, np.ndarray) and len(uv) == len(geometry.vertices):
+            # trimesh does not annotate this constructor
+            mesh.visual = trimesh.visual.TextureVisuals(uv=uv)  # type: ignore[no-untyped-call]
+        return mesh
+
+    def to_open3d(self, name: str | None = None) -> Any:
+        """An output as an Open3D ``TriangleMesh`` (a mesh output) or ``PointCloud`` (an
+        (n, 2|3) array); ``name`` as in :meth:`to_trimesh`. Raises ImportError naming the
+        package when Open3D is not installed (``pip install open3d``)."""
+        return to_open3d(output_geometry(self._values, name)[0])
+
+    def to_pyvista(self, name: str | None = None) -> Any:
+        """An output as a PyVista ``PolyData`` (triangles, or points alone); ``name`` as in
+        :meth:`to_trimesh`. Raises ImportError naming the package when PyVista (and its VTK)
+        cannot be imported (``pip install pyvista``)."""
+        return to_pyvista(output_geometry(self._values, name)[0])
 
     @property
     def raw(self) -> dict[str, Any]:
@@ -280,10 +295,14 @@ class Results(Mapping[str, Any]):
         return f"Results({', '.join(parts)})"
 
 
-def _as_3d(points: np.ndarray) -> np.ndarray:
-    if points.shape[1] == 3:
-        return points
-    return np.hstack([points, np.zeros((len(points), 3 - points.shape[1]))])
+#: Suffixes :meth:`Results.save` writes through trimesh.
+MESH_SUFFIXES = (".ply", ".obj", ".stl", ".off")
+
+
+def _exported(geometry: Any, suffix: str) -> bytes:
+    """``geometry`` (a trimesh object) as the bytes of a file of this suffix."""
+    data = geometry.export(file_type=suffix.lstrip("."))
+    return data.encode() if isinstance(data, str) else bytes(data)
 
 
 def _plain(value: Any) -> Any:
@@ -294,19 +313,6 @@ def _plain(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
     return value
-
-
-#: Suffixes of the geometry files an input may be given as (a path): sent as uploads.
-FILE_SUFFIXES = frozenset({".npy", ".ply", ".obj", ".stl", ".off", ".glb"})
-
-
-def is_file_input(value: Any) -> bool:
-    """Whether an input value is a file to upload: a path object, or a string naming an
-    existing file with a geometry suffix."""
-    if isinstance(value, os.PathLike):
-        return True
-    return isinstance(value, str) and Path(value).suffix.lower() in FILE_SUFFIXES and \
-        Path(value).is_file()
 
 
 #: Arrays of at least this many numbers (and empty ones, which keep their shape so) travel
@@ -353,9 +359,9 @@ def split_npy_parts(inputs: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str
         if _npy_worthy(value):
             parts[name] = value
             continue
-        if hasattr(value, "vertices") and hasattr(value, "faces") and \
-                not isinstance(value, Mapping):  # a trimesh.Trimesh
-            value = {"vertices": np.asarray(value.vertices), "faces": np.asarray(value.faces)}
+        geometry = as_geometry(value)  # prepare_inputs has turned these to arrays already
+        if geometry is not None:
+            value = geometry.as_input(frozenset(), name)
         if isinstance(value, Mapping) and any(_npy_worthy(v) for v in value.values()):
             parts.update({f"{name}.{k}": v for k, v in value.items() if _npy_worthy(v)})
             value = {k: v for k, v in value.items() if not _npy_worthy(v)}
@@ -391,11 +397,9 @@ def to_json_value(value: Any, name: str = "input") -> Any:
         return [to_json_value(v, f"{name}[{i}]") for i, v in enumerate(value)]
     if value is None or isinstance(value, (str, int, float, bool)):
         return value
-    if hasattr(value, "vertices") and hasattr(value, "faces"):  # a trimesh.Trimesh
-        return {"vertices": to_json_value(np.asarray(value.vertices), f"{name}.vertices"),
-                "faces": to_json_value(np.asarray(value.faces), f"{name}.faces")}
-    if hasattr(value, "vertices"):  # a trimesh.PointCloud: its points
-        return to_json_value(np.asarray(value.vertices), name)
+    geometry = as_geometry(value)  # a mesh or point cloud object (trimesh, Open3D, PyVista)
+    if geometry is not None:
+        return to_json_value(geometry.as_input(frozenset(), name), name)
     if hasattr(value, "__array__"):
         return to_json_value(np.asarray(value), name)
     raise TypeError(

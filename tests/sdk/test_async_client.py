@@ -187,6 +187,7 @@ def test_cancelling_a_wait_ends_the_progress_line(
     server.script = [("running", 40, "slow")]
     terminal = FakeTerminal()
     monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.setitem(sys.modules, "tqdm.auto", None)  # the SDK's own bar, tqdm or not
 
     async def main() -> None:
         async with AsyncClient("http://morph.test", transport=httpx.MockTransport(server)) as c:
@@ -195,4 +196,41 @@ def test_cancelling_a_wait_ends_the_progress_line(
                 await asyncio.wait_for(job.wait(progress=True, poll_interval=0.01), 0.05)
 
     asyncio.run(main())
-    assert terminal.getvalue() == "\r[############------------------]  40% slow\n"
+    drawn = terminal.getvalue()
+    assert drawn.startswith("\r[############------------------]  40% "), drawn
+    assert drawn.endswith(" slow\n"), drawn
+
+
+def test_geometry_objects_and_missing_files(run: Any, server: FakeServer, tmp_path: Any,
+                                            monkeypatch: pytest.MonkeyPatch) -> None:
+    import json
+
+    import trimesh
+
+    from morphserve import NoSuchFile
+
+    monkeypatch.chdir(tmp_path)
+    box = trimesh.creation.box()
+
+    async def scenario(client: AsyncClient) -> None:
+        await client.execute("alignment.rigid", source=box, target=box)
+        with pytest.raises(NoSuchFile, match="'scan.ply', which names no file"):
+            await client.execute("alignment.rigid", source="scan.ply", target=box)
+
+    run(scenario)
+    # the description once (a mesh given to a points input: its vertices), then one job
+    assert [r.method for r in server.requests] == ["GET", "POST"]
+    sent = json.loads(server.requests[1].content)["inputs"]
+    np.testing.assert_array_equal(sent["source"], box.vertices)
+
+
+def test_job_result_and_map(run: Any, server: FakeServer) -> None:
+    async def scenario(client: AsyncClient) -> None:
+        job = await client.execute("alignment.rigid", source=[[0]])
+        np.testing.assert_array_equal((await job.result(timeout=5))["transform"],
+                                      RESULTS["transform"])
+        items = await client.map("alignment.rigid", [{"source": [[0]]}, {}], max_in_flight=1)
+        assert [item.ok for item in items] == [True, False]
+        assert isinstance(items[1].error, InvalidInput)
+
+    run(scenario)

@@ -522,12 +522,37 @@ def test_wait_rejects_a_bad_poll_interval(client: Client) -> None:
         job.wait(poll_interval=0)
 
 
-def test_wait_draws_progress_one_line_per_change_off_a_terminal(
+class FakeClock:
+    """A monotonic clock that moves ``step`` seconds each time it is read."""
+
+    def __init__(self, step: float = 1.0) -> None:
+        self.now = 0.0
+        self.step = step
+
+    def __call__(self) -> float:
+        now = self.now
+        self.now += self.step
+        return now
+
+
+def test_wait_draws_progress_with_elapsed_time_rate_and_eta(client: Client) -> None:
+    stream = io.StringIO()  # not a terminal: a line at each tenth of the way
+    bar = ProgressBar(stream, clock=FakeClock(1.0))
+    client.execute("alignment.rigid", source=[[0]]).wait(progress=bar, poll_interval=0.001)
+    # read at 0 s, 1 s, 2 s: 40 % after 1 s is 40 %/s, so 60 % more takes 1.5 s
+    assert stream.getvalue().splitlines() == [
+        "[------------------------------]   0% 00:00<? ?%/s accepted",
+        "[############------------------]  40% 00:01<00:01 40.0%/s iteration 12 of 30",
+        "[##############################] 100% 00:02<00:00 50.0%/s done",
+    ]
+
+
+def test_wait_progress_true_draws_on_stderr(
     client: Client, capsys: pytest.CaptureFixture[str]
 ) -> None:
     client.execute("alignment.rigid", source=[[0]]).wait(progress=True, poll_interval=0.001)
     lines = capsys.readouterr().err.splitlines()
-    assert lines == [
+    assert [re.sub(r"\d\d:\d\d<.*?/s ", "", line) for line in lines] == [
         "[------------------------------]   0% accepted",
         "[############------------------]  40% iteration 12 of 30",
         "[##############################] 100% done",
@@ -541,20 +566,20 @@ class FakeTerminal(io.StringIO):
 
 def test_progress_bar_redraws_in_place_on_a_terminal() -> None:
     stream = FakeTerminal()
-    with ProgressBar(stream, width=10) as bar:
+    with ProgressBar(stream, width=10, clock=FakeClock(0.0)) as bar:
         bar.update(45, "long message here")
         bar.update(45, "long message here")  # unchanged: not drawn
         bar.update(100, "done")
-    first = "[####------]  45% long message here"
-    last = "[##########] 100% done".ljust(len(first))  # blanks what the first line left
+    first = "[####------]  45% 00:00<? ?%/s long message here"
+    last = "[##########] 100% 00:00<00:00 ?%/s done".ljust(len(first))  # blanks the rest
     assert stream.getvalue() == f"\r{first}\r{last}\n"
 
 
 def test_progress_bar_clamps_and_closes_once() -> None:
     stream = FakeTerminal()
     bar = ProgressBar(stream, width=4)
-    assert bar.render(None) == "[----]   0%"
-    assert bar.render(250, "x") == "[####] 100% x"
+    assert bar.render(None) == "[----]   0% 00:00<? ?%/s"
+    assert bar.render(250, "x", elapsed=4) == "[####] 100% 00:04<00:00 25.0%/s x"
     bar.close()
     assert stream.getvalue() == ""  # nothing drawn, no newline
 
@@ -624,6 +649,24 @@ def test_jobs_follows_next_links(client: Client, server: FakeServer) -> None:
     assert [j.job_id for j in jobs] == [f"job-{i}" for i in range(1, 6)]
     assert len(server.requests_to("GET", "/jobs")) == 3
     assert server.requests[0].url.params["limit"] == "100"
+
+
+def test_jobs_follows_absolute_next_links(server: FakeServer) -> None:
+    def absolute(request: httpx.Request) -> httpx.Response:
+        response = server(request)
+        if request.url.path != "/jobs":
+            return response
+        document = response.json()
+        for link in document["links"]:
+            link["href"] = "http://morph.test" + link["href"]
+        return httpx.Response(response.status_code, json=document)
+
+    for _ in range(5):
+        server.add_job()
+    with Client("http://morph.test", transport=httpx.MockTransport(absolute)) as client:
+        assert [j.job_id for j in client.jobs()] == [f"job-{i}" for i in range(1, 6)]
+    assert [r.url.params.get("offset") for r in server.requests_to("GET", "/jobs")] == \
+        [None, "2", "4"]
 
 
 def test_jobs_filters_and_limits(client: Client, server: FakeServer) -> None:

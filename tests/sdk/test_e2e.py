@@ -287,7 +287,7 @@ def test_results_save_and_to_trimesh(client: Client, tmp_path) -> None:  # noqa:
     assert json.loads((tmp_path / "out.json").read_text())["flipped_faces"] == 0
     with pytest.raises(ValueError, match="Name the output"):
         results.save(tmp_path / "x.npy")
-    with pytest.raises(ValueError, match=".glb, .npy or .json"):
+    with pytest.raises(ValueError, match=r"\.glb, \.ply, \.obj, \.stl, \.off, \.npy or \.json"):
         results.save(tmp_path / "x.png")
     distance = client.execute("assignment.distance", source=[[0.0, 0.0]], target=[[1.0, 1.0]],
                               wait=10)
