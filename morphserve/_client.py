@@ -11,20 +11,32 @@ method of either is one line that picks a flow.
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import math
 import os
 import time
-from collections.abc import AsyncIterator, Callable, Generator, Iterable, Iterator, Mapping
+from collections.abc import (
+    AsyncIterator,
+    Callable,
+    Generator,
+    Iterable,
+    Iterator,
+    Mapping,
+    Sequence,
+)
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from types import TracebackType
-from typing import Any, Generic, TypeVar, cast
+from typing import Any, Generic, TypeVar, cast, overload
 from urllib.parse import quote, unquote
 
 import httpx
 
+from ._batch import BatchItem, batch_inputs, item_flow
 from ._exceptions import (
+    APIError,
     JobDismissed,
     JobFailed,
     MorphserveError,
@@ -33,6 +45,7 @@ from ._exceptions import (
     WaitTimeout,
     problem_from_response,
 )
+from ._geometry import needs_description, prepare_inputs
 from ._models import (
     JOB_STATES,
     JobStatus,
@@ -40,14 +53,15 @@ from ._models import (
     ProcessSummary,
     Results,
     dumps,
-    is_file_input,
     npy_bytes,
     split_npy_parts,
     to_json_value,
 )
-from ._progress import ProgressBar
+from ._progress import ProgressDisplay, make_progress
+from ._typed import AsyncTypedCalls, TypedCalls
 
-__all__ = ["DEFAULT_URL", "MAX_LISTED_JOBS", "AsyncClient", "AsyncJob", "Client", "Job"]
+__all__ = ["DEFAULT_URL", "MAX_LISTED_JOBS", "AsyncClient", "AsyncJob", "Client", "Job",
+           "as_completed"]
 
 try:
     __version__ = version("morphserve")
@@ -172,6 +186,8 @@ class _Protocol:
     def __init__(self, build_request: Callable[..., httpx.Request], timeout: float | None) -> None:
         self._build_request = build_request
         self._timeout = timeout
+        self._descriptions: dict[str, ProcessDescription] = {}
+        """Process descriptions already fetched, to read what their inputs take."""
 
     def _get(self, url: str, **kwargs: Any) -> httpx.Request:
         return self._build_request("GET", url, **kwargs)
@@ -182,7 +198,17 @@ class _Protocol:
 
     def describe(self, process_id: str) -> _Flow[ProcessDescription]:
         document = _document((yield self._get(f"/processes/{quote(process_id, safe='')}")))
-        return ProcessDescription.from_json(document)
+        description = ProcessDescription.from_json(document)
+        self._descriptions[process_id] = description
+        return description
+
+    def _input_schemas(self, process_id: str) -> _Flow[dict[str, Any]]:
+        """The JSON Schema of each input of the process (its description fetched once)."""
+        description = self._descriptions.get(process_id)
+        if description is None:
+            description = yield from self.describe(process_id)
+        return {name: spec.get("schema") for name, spec in description.inputs.items()
+                if isinstance(spec, Mapping)}
 
     def execute(
         self,
@@ -194,9 +220,12 @@ class _Protocol:
         idempotency_key: str | None,
         time_limit: float | None = None,
     ) -> _Flow[_Submitted]:
-        files = {name: value for name, value in inputs.items() if is_file_input(value)}
-        rest, arrays = split_npy_parts({name: value for name, value in inputs.items()
-                                        if name not in files})
+        # what each input takes (points, a mesh, a choice) decides how geometry objects and
+        # strings go: the description is asked for once, and only when that matters
+        schemas = (yield from self._input_schemas(process_id)) \
+            if needs_description(inputs) else None
+        values, files = prepare_inputs(inputs, schemas)
+        rest, arrays = split_npy_parts(values)
         body: dict[str, Any] = {
             "inputs": {name: to_json_value(value, name) for name, value in rest.items()}
         }
@@ -222,8 +251,7 @@ class _Protocol:
         url = f"/processes/{quote(process_id, safe='')}/execution"
         if files or arrays:  # multipart: geometry files and large arrays (.npy) as parts,
             parts = {"spec": ("spec.json", dumps(body), "application/json")}  # the rest: spec
-            for name, value in files.items():
-                path = Path(value)
+            for name, path in files.items():
                 parts[name] = (path.name, path.read_bytes(), "application/octet-stream")
             for name, array in arrays.items():
                 parts[name] = (f"{name}.npy", npy_bytes(array), "application/x-npy")
@@ -279,10 +307,50 @@ class _Protocol:
 
     def results(self, job: _JobBase) -> _Flow[Results]:
         if job._results is None:
-            url = f"/jobs/{quote(job.id, safe='')}/results"
-            job._results = Results(_document((yield self._get(
-                url, headers={"Prefer": "arrays=binary"}))))
+            job._results = yield from self.fetch_results(job.id)
         return job._results
+
+    def fetch_results(self, job_id: str) -> _Flow[Results]:
+        url = f"/jobs/{quote(job_id, safe='')}/results"
+        return Results(_document((yield self._get(url, headers={"Prefer": "arrays=binary"}))))
+
+    def as_completed(
+        self, jobs: list[_JobBase], *, timeout: float | None, poll_interval: float
+    ) -> Generator[httpx.Request | _Sleep | _JobBase, Any, None]:
+        """Poll the unfinished ``jobs`` in turn; yield each job (not a request) as soon as
+        it is seen finished, its final status kept. Raises TimeoutError when ``timeout``
+        seconds pass first."""
+        if poll_interval <= 0:
+            raise ValueError(f"Expected `poll_interval` above 0 s, got {poll_interval}.")
+        deadline = None if timeout is None else time.monotonic() + timeout
+        pending = []
+        for job in jobs:
+            if job._results is not None or (job._final is not None):
+                yield job
+            else:
+                pending.append(job)
+        interval = poll_interval
+        while pending:
+            still = []
+            for job in pending:
+                status = yield from self.status(job.id)
+                if status.done:
+                    job._final = status
+                    yield job
+                else:
+                    still.append(job)
+            pending = still
+            if not pending:
+                return
+            pause = interval
+            if deadline is not None:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    raise TimeoutError(f"{len(pending)} of {len(jobs)} jobs did not end within "
+                                       f"{timeout:g} s.")
+                pause = min(pause, remaining)
+            yield _Sleep(pause)
+            interval = min(interval * 1.5, max(poll_interval, _MAX_POLL_INTERVAL))
 
     def download(self, job_id: str, fmt: str, output: str | None) -> _Flow[bytes]:
         """The results (or one output) as glTF binary (``glb``) or ``.npy``."""
@@ -304,13 +372,13 @@ class _Protocol:
         job_id: str,
         *,
         timeout: float | None,
-        progress: bool | ProgressBar,
+        progress: bool | ProgressDisplay,
         poll_interval: float,
     ) -> _Flow[JobStatus]:
         if poll_interval <= 0:
             raise ValueError(f"Expected `poll_interval` above 0 s, got {poll_interval}.")
         deadline = None if timeout is None else time.monotonic() + timeout
-        bar = progress if isinstance(progress, ProgressBar) else ProgressBar() if progress else None
+        bar = make_progress(progress)
         interval = poll_interval
         try:
             while True:
@@ -407,6 +475,9 @@ class _JobBase:
         self._results = submitted.results
         self.submitted_status = submitted.status
         """The status the service answered when the job was created or looked up, if any."""
+        status = submitted.status
+        self._final: JobStatus | None = status if status is not None and status.done else None
+        """The job's last status once seen finished (successful, failed or dismissed)."""
 
     @property
     def id(self) -> str:
@@ -464,7 +535,7 @@ class Job(_JobBase):
         self,
         *,
         timeout: float | None = None,
-        progress: bool | ProgressBar = False,
+        progress: bool | ProgressDisplay = False,
         poll_interval: float = 0.05,
     ) -> JobStatus:
         """Poll until the job ends; return its final status when successful.
@@ -507,11 +578,41 @@ class Job(_JobBase):
         results._download = self._download
         return results
 
+    def result(self, timeout: float | None = None) -> Results:
+        """The outputs, once the job has ended: waits for it as a
+        ``concurrent.futures.Future`` does.
+
+        Raises :class:`WaitTimeout` (a ``TimeoutError``) when ``timeout`` seconds pass first
+        (the job goes on), and the job's own error when it failed (:class:`JobFailed`,
+        :class:`InvalidInput` ...) or was dismissed (:class:`JobDismissed`).
+        """
+        if self._results is None:
+            self.wait(timeout=timeout)
+        return self.results()
+
+    def exception(self, timeout: float | None = None) -> APIError | None:
+        """The error the job ended with (None when it succeeded), once it has ended.
+        Raises :class:`WaitTimeout` when ``timeout`` seconds pass first, and what keeps
+        the SDK from knowing (:class:`TransportError`)."""
+        try:
+            self.result(timeout)
+        except APIError as error:
+            return error
+        return None
+
+    def done(self) -> bool:
+        """Whether the job has ended (asks the service unless it was seen ended)."""
+        if self._results is None and self._final is None:
+            status = self.status()
+            if status.done:
+                self._final = status
+        return self._results is not None or self._final is not None
+
     def _download(self, fmt: str, output: str | None) -> bytes:
         return self._client._run(self._protocol.download(self._id, fmt, output))
 
     def save(self, path: str | os.PathLike[str], output: str | None = None) -> Path:
-        """Write the job's results to ``path`` (.glb, .npy or .json; see
+        """Write the job's results to ``path`` (.glb, .ply, .obj, .stl, .off, .npy or .json; see
         :meth:`Results.save`)."""
         return self.results().save(path, output)
 
@@ -533,7 +634,7 @@ class AsyncJob(_JobBase):
         self,
         *,
         timeout: float | None = None,
-        progress: bool | ProgressBar = False,
+        progress: bool | ProgressDisplay = False,
         poll_interval: float = 0.05,
     ) -> JobStatus:
         """Poll until the job ends (see :meth:`Job.wait`)."""
@@ -546,8 +647,35 @@ class AsyncJob(_JobBase):
         """The outputs of the successful job (see :meth:`Job.results`)."""
         return await self._client._run(self._protocol.results(self))
 
+    async def result(self, timeout: float | None = None) -> Results:
+        """The outputs, once the job has ended (see :meth:`Job.result`); ``await job`` is
+        the same as ``await job.result()``."""
+        if self._results is None:
+            await self.wait(timeout=timeout)
+        return await self.results()
+
+    def __await__(self) -> Generator[Any, None, Results]:
+        return self.result().__await__()
+
+    async def exception(self, timeout: float | None = None) -> APIError | None:
+        """The error the job ended with, None when it succeeded (see :meth:`Job.exception`).
+        """
+        try:
+            await self.result(timeout)
+        except APIError as error:
+            return error
+        return None
+
+    async def done(self) -> bool:
+        """Whether the job has ended (see :meth:`Job.done`)."""
+        if self._results is None and self._final is None:
+            status = await self.status()
+            if status.done:
+                self._final = status
+        return self._results is not None or self._final is not None
+
     async def save(self, path: str | os.PathLike[str], output: str | None = None) -> Path:
-        """Write the job's results to ``path`` (.glb, .npy or .json; see
+        """Write the job's results to ``path`` (.glb, .ply, .obj, .stl, .off, .npy or .json; see
         :meth:`Results.save`)."""
         results = await self.results()
         if Path(path).suffix.lower() != ".glb":
@@ -561,7 +689,7 @@ class AsyncJob(_JobBase):
         return await self._client._run(self._protocol.dismiss(self._id))
 
 
-class Client(_ClientBase):
+class Client(_ClientBase, TypedCalls):
     """A synchronous client of a morphserve service.
 
     Parameters
@@ -653,13 +781,18 @@ class Client(_ClientBase):
             The inputs of the process: numpy arrays (from 1,024 numbers sent as typed
             binary arrays, bit-exact; from 1 MiB, also as members of a mesh, as ``.npy``
             parts of a multipart request, which the service accepts fastest), numbers,
-            strings, lists and dicts; ``trimesh`` meshes (as
-            ``{vertices, faces}``) and point clouds (their points); and geometry files —
-            a ``pathlib.Path``, or a string naming an existing ``.ply``, ``.obj``, ``.stl``,
-            ``.off``, ``.glb`` or ``.npy`` file — uploaded as they are (multipart).
+            strings, lists and dicts; mesh and point cloud objects of trimesh, Open3D and
+            PyVista (a mesh goes as ``{vertices, faces}`` to an input that takes a mesh, as
+            its vertices to one that takes points, as the process description says); and
+            geometry files — a ``pathlib.Path``, or a string that is not a choice of the
+            input, naming a ``.ply``, ``.obj``, ``.stl``, ``.off``, ``.glb`` or ``.npy``
+            file — uploaded as they are (multipart).
 
         Raises
         ------
+        NoSuchFile
+            A path (or a string that is no choice of its input) names no file; raised
+            before anything is sent. Also a ``FileNotFoundError``.
         InvalidInput
             An input is missing or wrong; ``errors`` says which.
         QueueFull
@@ -689,6 +822,128 @@ class Client(_ClientBase):
         """
         return self._run(self._protocol.jobs(status, process, limit))
 
+    def map(
+        self,
+        process_id: str,
+        inputs: Iterable[Mapping[str, Any]],
+        /,
+        *,
+        max_in_flight: int = 8,
+        progress: bool | ProgressDisplay = False,
+        batch_id: str | None = None,
+        keys: Sequence[str] | None = None,
+        outputs: Iterable[str] | Mapping[str, Any] | None = None,
+        time_limit: float | None = None,
+        timeout: float | None = None,
+        poll_interval: float = 0.05,
+        **common: Any,
+    ) -> list[BatchItem[Job]]:
+        """Run ``process_id`` once per item of ``inputs``, many jobs at a time; one
+        :class:`BatchItem` per item, in their order, holding its results or its error.
+
+        Parameters
+        ----------
+        process_id : str
+            The process to run.
+        inputs : iterable of dict
+            One dict of named inputs per job (each as :meth:`execute` takes them).
+        max_in_flight : int
+            Jobs sent and not yet finished at any time: enough to keep every worker of the
+            service busy (default 8).
+        progress : bool or progress bar
+            One bar for the batch: jobs done of all, elapsed time, rate and time left.
+        batch_id : str, optional
+            Names the batch: job ``i`` is sent with the Idempotency-Key
+            ``{batch_id}:{process_id}:{i}``, so running the batch again with the same id
+            (after a crash, a lost connection) gives back the jobs already made, finished or
+            not, instead of starting them again. A random id when None (retries within the
+            call are safe all the same).
+        keys : sequence of str, optional
+            One Idempotency-Key per item, instead of ``batch_id``.
+        outputs, time_limit
+            As for :meth:`execute`, for every job.
+        timeout : float, optional
+            Seconds to wait for each job at most; a job still running then is an item whose
+            error is :class:`WaitTimeout` (the job goes on).
+        poll_interval : float
+            Seconds between the first polls of a job that outlasts its first request.
+        **common
+            Inputs shared by every job; an item's own inputs take precedence.
+
+        Returns
+        -------
+        list of BatchItem
+            ``item.ok``, ``item.results`` (``item.result()`` raises the item's error),
+            ``item.error``, ``item.job``, ``item.key``.
+
+        Raises
+        ------
+        NoSuchProcess
+            There is no such process (checked once, before any job is sent).
+        """
+        items, item_keys = batch_inputs(process_id, inputs, common, batch_id, keys,
+                                        max_in_flight)
+        self._run(self._protocol._input_schemas(process_id))  # the process exists: once
+        out: list[BatchItem[Job] | None] = [None] * len(items)
+        bar = make_progress(progress, total=max(len(items), 1), unit="jobs", desc=process_id)
+        failed = 0
+        pool = ThreadPoolExecutor(max_workers=max_in_flight, thread_name_prefix="morphserve")
+        try:
+            futures = {
+                pool.submit(self._run, item_flow(
+                    self._protocol, process_id, item, item_keys[index], outputs=outputs,
+                    time_limit=time_limit, timeout=timeout, poll_interval=poll_interval)): index
+                for index, item in enumerate(items)}
+            for done, future in enumerate(concurrent.futures.as_completed(futures), 1):
+                index = futures[future]
+                submitted, error = future.result()
+                job = None if submitted is None else Job(self, submitted)
+                out[index] = BatchItem(index, item_keys[index], job,
+                                       None if job is None else job._results, error)
+                failed += error is not None
+                if bar is not None:
+                    bar.update(done, f"{failed} failed" if failed else None)
+        except BaseException:  # Ctrl-C: the jobs still running go on, unwatched
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        else:
+            pool.shutdown()
+        finally:
+            if bar is not None:
+                bar.close()
+        return [item for item in out if item is not None]
+
+    def as_completed(
+        self,
+        jobs: Iterable[Job],
+        *,
+        timeout: float | None = None,
+        progress: bool | ProgressDisplay = False,
+        poll_interval: float = 0.05,
+    ) -> Iterator[Job]:
+        """Yield each of ``jobs`` as it ends (successful, failed or dismissed), as
+        ``concurrent.futures.as_completed`` does: ``job.result()`` then gives its results
+        or raises its error. Raises ``TimeoutError`` when ``timeout`` seconds pass first.
+        """
+        pending = list(jobs)
+        bar = make_progress(progress, total=max(len(pending), 1), unit="jobs")
+        flow = self._protocol.as_completed(list(pending), timeout=timeout,
+                                           poll_interval=poll_interval)
+        try:
+            with _Stepper(cast(_Flow[None], flow)) as stepper:
+                done = 0
+                for step in stepper:
+                    if isinstance(step, Job):
+                        done += 1
+                        if bar is not None:
+                            bar.update(done)
+                        yield step
+                    else:
+                        stepper.send(self._perform(step))
+        finally:
+            if bar is not None:
+                bar.close()
+
     def close(self) -> None:
         """Close the connections."""
         self._http.close()
@@ -705,7 +960,7 @@ class Client(_ClientBase):
         self.close()
 
 
-class AsyncClient(_ClientBase):
+class AsyncClient(_ClientBase, AsyncTypedCalls):
     """An asyncio client of a morphserve service; the API of :class:`Client`, awaited.
 
     ``transport`` takes an ``httpx.AsyncBaseTransport`` (``httpx.MockTransport`` serves both).
@@ -780,6 +1035,86 @@ class AsyncClient(_ClientBase):
         """The jobs of the service (see :meth:`Client.jobs`)."""
         return await self._run(self._protocol.jobs(status, process, limit))
 
+    async def map(
+        self,
+        process_id: str,
+        inputs: Iterable[Mapping[str, Any]],
+        /,
+        *,
+        max_in_flight: int = 8,
+        progress: bool | ProgressDisplay = False,
+        batch_id: str | None = None,
+        keys: Sequence[str] | None = None,
+        outputs: Iterable[str] | Mapping[str, Any] | None = None,
+        time_limit: float | None = None,
+        timeout: float | None = None,
+        poll_interval: float = 0.05,
+        **common: Any,
+    ) -> list[BatchItem[AsyncJob]]:
+        """Run ``process_id`` once per item of ``inputs``, many jobs at a time (see
+        :meth:`Client.map`); the jobs are tasks of the running event loop."""
+        items, item_keys = batch_inputs(process_id, inputs, common, batch_id, keys,
+                                        max_in_flight)
+        await self._run(self._protocol._input_schemas(process_id))
+        out: list[BatchItem[AsyncJob] | None] = [None] * len(items)
+        bar = make_progress(progress, total=max(len(items), 1), unit="jobs", desc=process_id)
+        gate = asyncio.Semaphore(max_in_flight)
+
+        async def one(index: int) -> tuple[int, _Submitted | None, Exception | None]:
+            async with gate:
+                submitted, error = await self._run(item_flow(
+                    self._protocol, process_id, items[index], item_keys[index],
+                    outputs=outputs, time_limit=time_limit, timeout=timeout,
+                    poll_interval=poll_interval))
+            return index, submitted, error
+
+        tasks = [asyncio.ensure_future(one(index)) for index in range(len(items))]
+        failed = 0
+        try:
+            for done, next_done in enumerate(asyncio.as_completed(tasks), 1):
+                index, submitted, error = await next_done
+                job = None if submitted is None else AsyncJob(self, submitted)
+                out[index] = BatchItem(index, item_keys[index], job,
+                                       None if job is None else job._results, error)
+                failed += error is not None
+                if bar is not None:
+                    bar.update(done, f"{failed} failed" if failed else None)
+        finally:
+            for task in tasks:
+                task.cancel()
+            if bar is not None:
+                bar.close()
+        return [item for item in out if item is not None]
+
+    async def as_completed(
+        self,
+        jobs: Iterable[AsyncJob],
+        *,
+        timeout: float | None = None,
+        progress: bool | ProgressDisplay = False,
+        poll_interval: float = 0.05,
+    ) -> AsyncIterator[AsyncJob]:
+        """Yield each of ``jobs`` as it ends (see :meth:`Client.as_completed`):
+        ``async for job in client.as_completed(jobs)``."""
+        pending = list(jobs)
+        bar = make_progress(progress, total=max(len(pending), 1), unit="jobs")
+        flow = self._protocol.as_completed(list(pending), timeout=timeout,
+                                           poll_interval=poll_interval)
+        try:
+            with _Stepper(cast(_Flow[None], flow)) as stepper:
+                done = 0
+                for step in stepper:
+                    if isinstance(step, AsyncJob):
+                        done += 1
+                        if bar is not None:
+                            bar.update(done)
+                        yield step
+                    else:
+                        stepper.send(await self._perform(step))
+        finally:
+            if bar is not None:
+                bar.close()
+
     async def close(self) -> None:
         """Close the connections."""
         await self._http.aclose()
@@ -796,3 +1131,32 @@ class AsyncClient(_ClientBase):
         tb: TracebackType | None,
     ) -> None:
         await self.close()
+
+
+@overload
+def as_completed(jobs: Iterable[Job], *, timeout: float | None = None,
+                 progress: bool | ProgressDisplay = False) -> Iterator[Job]: ...
+
+
+@overload
+def as_completed(jobs: Iterable[AsyncJob], *, timeout: float | None = None,
+                 progress: bool | ProgressDisplay = False) -> AsyncIterator[AsyncJob]: ...
+
+
+def as_completed(jobs: Iterable[Job] | Iterable[AsyncJob], *, timeout: float | None = None,
+                 progress: bool | ProgressDisplay = False
+                 ) -> Iterator[Job] | AsyncIterator[AsyncJob]:
+    """Each of ``jobs`` as it ends, as ``concurrent.futures.as_completed`` gives futures:
+    ``for job in as_completed(jobs)`` for jobs of a :class:`Client`, ``async for`` for jobs
+    of an :class:`AsyncClient` (see :meth:`Client.as_completed`). The jobs must all be of
+    one client."""
+    given: list[Any] = list(jobs)
+    clients = {id(job._client) for job in given}
+    if len(clients) > 1:
+        raise ValueError("Expected the jobs of one client, got jobs of several.")
+    if not given:
+        return iter(())
+    client = given[0]._client
+    if isinstance(client, AsyncClient):
+        return client.as_completed(given, timeout=timeout, progress=progress)
+    return cast(Client, client).as_completed(given, timeout=timeout, progress=progress)

@@ -4,22 +4,22 @@
 
     morphserve serve [--host H] [--port P] [--data-dir D] [--scheduler tcp://...] [--workers N]
     morphserve worker [--scheduler tcp://host:8786] [--nworkers N] [--memory-limit 4GiB]
-    morphserve processes
-    morphserve describe alignment.rigid
+    morphserve processes [--json]
+    morphserve describe alignment.rigid [--json]
     morphserve execute alignment.rigid --input source=a.npy --input target=b.json \\
         --param allow_reflection=false --wait --output result.json
     morphserve execute deformation.arap --input mesh=scan.ply --input handles=h.json \\
         --wait --output result.glb
-    morphserve jobs [--status running] [--process alignment.rigid] [--limit 20]
-    morphserve status JOB | results JOB [--output FILE] | dismiss JOB
+    morphserve jobs [--status running] [--process alignment.rigid] [--limit 20] [--json]
+    morphserve status JOB [--json] | results JOB [--output FILE] | dismiss JOB
     morphserve keys add NAME | keys revoke NAME | keys list   [--file F]
 
 The client commands go through the SDK (:mod:`morphserve`) to ``--url`` (default
-``$MORPHSERVE_URL``, else http://127.0.0.1:8000). Exit status: 0 done, 1 the service or the
-network said no (``error: <title>: <detail>`` on stderr), 2 wrong usage, 130 interrupted.
-They send ``$MORPHSERVE_API_KEY`` as the bearer key when it is set. ``keys`` edits the API
-keys file (``--file``, default ``$MORPHSERVE_API_KEYS_FILE``): ``add`` prints the new key
-once and stores only its hash.
+``$MORPHSERVE_URL``, else http://127.0.0.1:8000); ``--json`` prints one JSON document for
+scripts. Errors go to stderr (``error: <title>: <detail>``) with an exit status of their own
+(:class:`Exit`, listed by ``morphserve --help``). They send ``$MORPHSERVE_API_KEY`` as the
+bearer key when it is set. ``keys`` edits the API keys file (``--file``, default
+``$MORPHSERVE_API_KEYS_FILE``): ``add`` prints the new key once and stores only its hash.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ import json
 import os
 import sys
 from collections.abc import Callable, Sequence
+from enum import IntEnum
 from pathlib import Path
 from typing import Any
 
@@ -39,15 +40,80 @@ from morphserve import (
     JOB_STATES,
     APIError,
     Client,
+    InvalidInput,
+    JobDismissed,
+    JobFailed,
     JobStatus,
     MorphserveError,
+    NotFound,
+    ResultNotReady,
     Results,
+    ServiceUnavailable,
     TransportError,
     WaitTimeout,
     __version__,
 )
 
-__all__ = ["build_parser", "connect", "main", "parse_input", "parse_param", "worker_argv"]
+__all__ = ["Exit", "build_parser", "connect", "exit_status", "main", "parse_input",
+           "parse_param", "worker_argv"]
+
+
+class Exit(IntEnum):
+    """The exit statuses of the ``morphserve`` command, one per kind of outcome, so that a
+    script can tell them apart (the ``--help`` epilog and the README list them)."""
+
+    OK = 0
+    """Done."""
+    ERROR = 1
+    """Any other refusal of the service (a full queue, a wrong API key ...) or local error."""
+    USAGE = 2
+    """The command line is wrong (an unknown option, an unreadable input file)."""
+    INVALID_INPUT = 3
+    """The service refused an input (422); the input and why are on stderr."""
+    NOT_FOUND = 4
+    """No such process, job or output (404)."""
+    UNREACHABLE = 5
+    """The service cannot be reached, or is not ready (503)."""
+    JOB_FAILED = 6
+    """The job ran and failed, ran out of time, or was dismissed."""
+    TIMEOUT = 7
+    """``--timeout`` passed before the job ended; the job goes on."""
+    INTERRUPTED = 130
+    """Ctrl-C (128 + SIGINT, as shells report it)."""
+
+
+_EXIT_WORDS = {
+    Exit.OK: "done",
+    Exit.ERROR: "the service refused for another reason (such as a full queue)",
+    Exit.USAGE: "wrong usage (an unknown option, an unreadable input file)",
+    Exit.INVALID_INPUT: "the service refused an input",
+    Exit.NOT_FOUND: "no such process, job or output",
+    Exit.UNREACHABLE: "the service cannot be reached or is not ready",
+    Exit.JOB_FAILED: "the job failed or was dismissed",
+    Exit.TIMEOUT: "--timeout passed before the job ended (it goes on)",
+    Exit.INTERRUPTED: "interrupted (Ctrl-C)",
+}
+
+
+def exit_status(error: MorphserveError) -> Exit:
+    """The exit status of a command that raised ``error``."""
+    if isinstance(error, InvalidInput):
+        return Exit.INVALID_INPUT
+    if isinstance(error, (JobFailed, JobDismissed)):
+        return Exit.JOB_FAILED
+    if isinstance(error, NotFound) and not isinstance(error, ResultNotReady):
+        return Exit.NOT_FOUND
+    if isinstance(error, (TransportError, ServiceUnavailable)):
+        return Exit.UNREACHABLE
+    if isinstance(error, WaitTimeout):
+        return Exit.TIMEOUT
+    return Exit.ERROR
+
+
+def _epilog() -> str:
+    lines = ["exit status:"]
+    lines += [f"  {int(code):<4} {words}" for code, words in _EXIT_WORDS.items()]
+    return "\n".join(lines)
 
 
 class UsageError(Exception):
@@ -205,6 +271,11 @@ def _status_lines(status: JobStatus) -> str:
     )
 
 
+def _print_json(document: Any) -> None:
+    """One JSON document on stdout, for scripts (``--json``)."""
+    print(json.dumps(document))
+
+
 def _put_results(results: Results, output: Path | None) -> None:
     """Print the results as JSON, or write them to ``output`` in the format its suffix names:
     .glb (the result's geometry), .npy (the one array output), else JSON."""
@@ -336,6 +407,11 @@ def _worker(args: argparse.Namespace) -> int:
 def _processes(args: argparse.Namespace) -> int:
     with connect(args.url) as client:
         processes = client.processes()
+    if args.json:
+        _print_json([{"id": p.id, "title": p.title, "description": p.description,
+                      "version": p.version, "jobControlOptions": list(p.job_control_options)}
+                     for p in processes])
+        return 0
     print(_table(["ID", "TITLE"], [(p.id, p.title) for p in processes]))
     return 0
 
@@ -343,6 +419,9 @@ def _processes(args: argparse.Namespace) -> int:
 def _describe(args: argparse.Namespace) -> int:
     with connect(args.url) as client:
         process = client.describe(args.process)
+    if args.json:
+        _print_json(process.raw)
+        return 0
     version = f" (version {process.version})" if process.version else ""
     print(f"{process.id}: {process.title}{version}")
     if process.description:
@@ -375,9 +454,14 @@ def _execute(args: argparse.Namespace) -> int:
             raise UsageError(f"execute: input {name!r} given twice")
         inputs[name] = value
     with connect(args.url) as client:
-        job = client.execute(args.process, **inputs)
+        job = client.execute(args.process, time_limit=args.time_limit, **inputs)
         if not args.wait:
-            print(job.id)
+            if args.json:
+                status = job.submitted_status
+                _print_json(status.raw if status is not None and status.raw else
+                            {"jobID": job.id, "processID": job.process_id})
+            else:
+                print(job.id)
             return 0
         try:
             job.wait(timeout=args.timeout, progress=not args.no_progress)
@@ -386,21 +470,35 @@ def _execute(args: argparse.Namespace) -> int:
                 f"interrupted; job {job.id} goes on (morphserve dismiss {job.id} stops it)",
                 file=sys.stderr,
             )
-            return 130
+            return Exit.INTERRUPTED
         except WaitTimeout as error:
             print(
                 f"error: {error} It goes on: 'morphserve status {job.id}' follows it, "
                 f"'morphserve dismiss {job.id}' stops it.",
                 file=sys.stderr,
             )
-            return 1
-        _put_results(job.results(), args.output)
+            return Exit.TIMEOUT
+        results = job.results()
+        if args.json:
+            document: dict[str, Any] = {"jobID": job.id, "processID": job.process_id,
+                                        "status": "successful"}
+            if args.output is not None:
+                _put_results(results, args.output)
+                document["output"] = str(args.output)
+            else:
+                document["results"] = results.to_json()
+            _print_json(document)
+        else:
+            _put_results(results, args.output)
     return 0
 
 
 def _jobs(args: argparse.Namespace) -> int:
     with connect(args.url) as client:
         jobs = client.jobs(status=args.status, process=args.process, limit=args.limit)
+    if args.json:
+        _print_json([j.raw for j in jobs])
+        return 0
     rows = [
         (
             j.job_id,
@@ -418,7 +516,8 @@ def _jobs(args: argparse.Namespace) -> int:
 
 def _status(args: argparse.Namespace) -> int:
     with connect(args.url) as client:
-        print(_status_lines(client.job(args.job).status()))
+        status = client.job(args.job).status()
+    print(json.dumps(status.raw) if args.json else _status_lines(status))
     return 0
 
 
@@ -443,6 +542,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="morphserve",
         description="A geometry job service over OGC API - Processes: run it, or talk to it.",
+        epilog=_epilog(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument(
         "--url",
@@ -455,9 +556,14 @@ def build_parser() -> argparse.ArgumentParser:
     # --url is also accepted after a client command; SUPPRESS keeps the global value otherwise
     remote = argparse.ArgumentParser(add_help=False)
     remote.add_argument("--url", default=argparse.SUPPRESS, help="the service")
+    # --json: one JSON document on stdout instead of the text for people
+    scripted = argparse.ArgumentParser(add_help=False)
+    scripted.add_argument("--json", action="store_true",
+                          help="print one JSON document (for scripts) instead of text")
 
     def command(name: str, run: Callable[[argparse.Namespace], int], text: str, **kw: Any) -> Any:
-        sub = commands.add_parser(name, help=text, description=text, **kw)
+        sub = commands.add_parser(name, help=text, description=text, epilog=_epilog(),
+                                  formatter_class=argparse.RawDescriptionHelpFormatter, **kw)
         sub.set_defaults(run=run)
         return sub
 
@@ -499,14 +605,16 @@ def build_parser() -> argparse.ArgumentParser:
     worker.add_argument("--memory-limit", help="per worker process, such as 4GiB (default: auto)")
     worker.add_argument("--name", help="worker name; a process number is appended")
 
-    command("processes", _processes, "List the processes.", parents=[remote])
+    command("processes", _processes, "List the processes.", parents=[remote, scripted])
 
     describe = command(
-        "describe", _describe, "Show a process's inputs and outputs.", parents=[remote]
+        "describe", _describe, "Show a process's inputs and outputs.",
+        parents=[remote, scripted],
     )
     describe.add_argument("process", metavar="ID")
 
-    execute = command("execute", _execute, "Start a job (and wait for it).", parents=[remote])
+    execute = command("execute", _execute, "Start a job (and wait for it).",
+                      parents=[remote, scripted])
     execute.add_argument("process", metavar="ID")
     execute.add_argument(
         "--input",
@@ -538,8 +646,12 @@ def build_parser() -> argparse.ArgumentParser:
         ".glb for the result's geometry (glTF binary), .npy for its one array, else JSON"
     )
     execute.add_argument("--no-progress", action="store_true", help="with --wait: no progress bar")
+    execute.add_argument(
+        "--time-limit", type=_seconds, metavar="S",
+        help="stop the job after S seconds of running (it then fails)",
+    )
 
-    jobs = command("jobs", _jobs, "List jobs.", parents=[remote])
+    jobs = command("jobs", _jobs, "List jobs.", parents=[remote, scripted])
     jobs.add_argument("--status", action="append", choices=JOB_STATES, help="repeatable")
     jobs.add_argument("--process", metavar="ID")
     jobs.add_argument(
@@ -561,7 +673,8 @@ def build_parser() -> argparse.ArgumentParser:
         ("results", _results, "Print a job's results as JSON."),
         ("dismiss", _dismiss, "Cancel a job, or remove a finished one."),
     ]:
-        sub = command(name, run, text, parents=[remote])
+        sub = command(name, run, text, parents=[remote, scripted] if name == "status"
+                      else [remote])
         sub.add_argument("job", metavar="JOB")
         if name == "results":
             sub.add_argument("--output", type=Path, metavar="FILE", help="write the results "
@@ -584,24 +697,26 @@ def _report(error: MorphserveError, url: str) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command; return its exit status (0 done, 1 refused, 2 usage, 130 interrupted)."""
-    parser = build_parser()
+    """Run the command; return its exit status (:class:`Exit`)."""
     try:
-        args = parser.parse_args(argv)
-    except SystemExit as stop:  # --help, --version, or a usage error already printed
-        return stop.code if isinstance(stop.code, int) else 0 if stop.code is None else 2
-    try:
-        return int(args.run(args))
-    except UsageError as error:
-        parser.print_usage(sys.stderr)
-        print(f"{parser.prog}: error: {error}", file=sys.stderr)
-        return 2
-    except MorphserveError as error:
-        _report(error, args.url)
-        return 1
+        parser = build_parser()
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as stop:  # --help, --version, or a usage error already printed
+            return (stop.code if isinstance(stop.code, int) else
+                    Exit.OK if stop.code is None else Exit.USAGE)
+        try:
+            return int(args.run(args))
+        except UsageError as error:
+            parser.print_usage(sys.stderr)
+            print(f"{parser.prog}: error: {error}", file=sys.stderr)
+            return Exit.USAGE
+        except MorphserveError as error:
+            _report(error, args.url)
+            return exit_status(error)
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
-        return 130
+        return Exit.INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -18,9 +18,11 @@ Each type is a page the service serves at ``/problems/{slug}``.
 
 from __future__ import annotations
 
+import difflib
 import html
 import logging
 import re
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 from fastapi import FastAPI, Request
@@ -46,6 +48,9 @@ __all__ = [
     "problem_response",
     "install_handlers",
     "PROBLEM_JSON",
+    "closest",
+    "input_errors",
+    "unknown_input_message",
 ]
 
 log = logging.getLogger("morphserve")
@@ -71,6 +76,37 @@ class ServiceError(Exception):
         self.errors = errors
         self.status = status or self.problem.status
         self.headers = headers or {}
+
+
+def closest(name: str, choices: Iterable[str], n: int = 1) -> list[str]:
+    """The ``n`` choices most like ``name`` (a typo's likely meaning), best first; none when
+    nothing is close (difflib's ratio under 0.6)."""
+    return difflib.get_close_matches(name, list(choices), n=n, cutoff=0.6)
+
+
+def unknown_input_message(name: str, valid: Sequence[str], hidden: Iterable[str] = ()) -> str:
+    """The refusal of an input the process does not have, naming the closest of its inputs
+    and listing them all: "Unknown input `max_iter`; did you mean `max_iterations`? ..."."""
+    listed = ", ".join(f"`{v}`" for v in valid)
+    if name in set(hidden):
+        return (f"`{name}` is a setting of the method that this service does not offer; "
+                f"the inputs are {listed}.")
+    guess = closest(name, valid)
+    hint = f"; did you mean `{guess[0]}`?" if guess else "."
+    return f"Unknown input `{name}`{hint} The inputs are {listed}."
+
+
+def input_errors(errors: list[Any], valid: Sequence[str],
+                 hidden: Iterable[str] = ()) -> list[dict[str, str]]:
+    """pydantic's errors of an execute request's inputs as problem ``errors`` entries
+    (:func:`pydantic_errors`), an unknown input (pydantic's "Extra inputs are not
+    permitted") told as :func:`unknown_input_message` says."""
+    out = pydantic_errors(errors)
+    for entry, error in zip(out, errors, strict=True):
+        loc = tuple(error.get("loc", ()))
+        if error.get("type") == "extra_forbidden" and len(loc) == 1:
+            entry["message"] = unknown_input_message(str(loc[0]), valid, hidden)
+    return out
 
 
 def problem_response(body: dict[str, Any], headers: dict[str, str] | None = None) -> JSONResponse:

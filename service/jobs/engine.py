@@ -26,10 +26,12 @@ seconds without cooperating gets its worker restarted.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
+import signal
 import threading
 import time
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
@@ -52,6 +54,22 @@ log = logging.getLogger("morphserve.engine")
 GRACE = 2.0
 """Seconds past its time limit after which a job that ignores its cancel event is stopped
 by restarting its worker."""
+
+
+@contextlib.contextmanager
+def _children_ignore_sigint() -> Iterator[None]:
+    """Ignore SIGINT while the embedded cluster's worker processes are spawned, so that they
+    inherit the ignoring: a Ctrl-C in the terminal reaches the whole process group, and the
+    service (which closes the cluster as it shuts down) should be the only one to act on
+    it, not each worker with a traceback of its own. Only the main thread may do so."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 class WarmUp(WorkerPlugin):
@@ -118,11 +136,12 @@ class Engine:
         if self.settings.scheduler:
             self.client = await Client(self.settings.scheduler, asynchronous=True)
         else:
-            self.cluster = await LocalCluster(
-                n_workers=self.settings.workers, threads_per_worker=1, processes=True,
-                asynchronous=True, dashboard_address=None, scheduler_port=0,
-                host="127.0.0.1", memory_limit=self.settings.worker_memory_limit,
-                silence_logs=logging.ERROR)
+            with _children_ignore_sigint():
+                self.cluster = await LocalCluster(
+                    n_workers=self.settings.workers, threads_per_worker=1, processes=True,
+                    asynchronous=True, dashboard_address=None, scheduler_port=0,
+                    host="127.0.0.1", memory_limit=self.settings.worker_memory_limit,
+                    silence_logs=logging.ERROR)
             self.client = await Client(self.cluster, asynchronous=True)
         self.client.subscribe_topic(TOPIC, self._on_event)
         await self.client.register_plugin(WarmUp(), name="morphserve-warm-up")

@@ -7,6 +7,7 @@ get their SDK client from) is replaced by one built on an ``httpx.MockTransport`
 from __future__ import annotations
 
 import json
+import re
 import sys
 import types
 from collections.abc import Callable
@@ -349,7 +350,8 @@ def test_execute_prints_the_job_id(run: Run, service: Canned, tmp_path: Path) ->
         "method=svd",
     )
     assert (code, out, err) == (0, "job-1\n", "")
-    (request,) = service.requests
+    # a string input may name a file: the SDK reads the process description to tell
+    (request,) = [r for r in service.requests if r.method == "POST"]
     assert request.headers["Prefer"] == "respond-async"
     assert json.loads(request.content)["inputs"] == {
         "source": [[0.0, 1.0], [2.0, 3.0]],
@@ -363,10 +365,12 @@ def test_execute_wait_prints_results_and_progress(run: Run, service: Canned) -> 
     code, out, err = run("execute", "alignment.rigid", "--param", "source=[[0]]", "--wait")
     assert code == 0
     assert json.loads(out) == RESULTS
-    assert err.splitlines() == [
-        "[------------------------------]   0% accepted",
-        "[###############---------------]  50% halfway",
-        "[##############################] 100% done",
+    # the bar, then the elapsed time, rate and time left (which vary), then the message
+    bars = [re.fullmatch(r"(\[[#-]{30}\] +\d+%) .*? (\w+)", line) for line in err.splitlines()]
+    assert [(m[1], m[2]) if m else line for m, line in zip(bars, err.splitlines())] == [
+        ("[------------------------------]   0%", "accepted"),
+        ("[###############---------------]  50%", "halfway"),
+        ("[##############################] 100%", "done"),
     ]
 
 
@@ -383,7 +387,7 @@ def test_execute_wait_writes_the_output_file(run: Run, service: Canned, tmp_path
 def test_execute_wait_timeout(run: Run, service: Canned) -> None:
     service.routes["GET /jobs/job-1"] = [ok(info("running", 50, "halfway"))]
     code, out, err = run("execute", "alignment.rigid", "--wait", "--timeout", "0", "--no-progress")
-    assert (code, out) == (1, "")
+    assert (code, out) == (7, "")  # timeout
     assert err == ("error: Job job-1 did not end within 0 s (last seen running, 50%). It goes "
                    "on: 'morphserve status job-1' follows it, 'morphserve dismiss job-1' "
                    "stops it.\n")
@@ -395,7 +399,7 @@ def test_execute_wait_on_a_failed_job(run: Run, service: Canned) -> None:
         problem(500, "job-failed", "Job failed", "Matrix is singular at iteration 4.")
     ]
     code, out, err = run("execute", "alignment.rigid", "--wait", "--no-progress")
-    assert (code, out) == (1, "")
+    assert (code, out) == (6, "")  # the job failed
     assert err == "error: Job failed: Matrix is singular at iteration 4.\n"
 
 
@@ -423,7 +427,7 @@ def test_api_errors_print_title_detail_and_fields(run: Run, service: Canned) -> 
         problem(422, "invalid-input", "Invalid input", "2 inputs are invalid.", errors=errors)
     ]
     code, out, err = run("execute", "alignment.rigid", "--param", "source=[[1, 2]]")
-    assert (code, out) == (1, "")
+    assert (code, out) == (3, "")  # invalid input
     assert err.splitlines() == [
         "error: Invalid input: 2 inputs are invalid.",
         "  source: Expected (n, 3) points, got (4, 2).",
@@ -434,7 +438,7 @@ def test_api_errors_print_title_detail_and_fields(run: Run, service: Canned) -> 
 def test_unknown_job(run: Run, service: Canned) -> None:
     service.routes["GET /jobs/nope"] = [problem(404, "no-such-job", "No such job", "No job nope.")]
     code, _, err = run("status", "nope")
-    assert code == 1
+    assert code == 4  # not found
     assert err == "error: No such job: No job nope.\n"
 
 
@@ -446,7 +450,7 @@ def test_unreachable_service(run: Run, monkeypatch: pytest.MonkeyPatch) -> None:
         cli, "connect", lambda url: Client(url, transport=httpx.MockTransport(refuse))
     )
     code, _, err = run("--url", "http://nowhere:1", "processes")
-    assert code == 1
+    assert code == 5  # unreachable
     assert err.startswith("error: cannot reach http://nowhere:1: ConnectError: Connection refused")
 
 
@@ -503,3 +507,118 @@ def test_dismiss(run: Run, service: Canned) -> None:
     code, out, _ = run("dismiss", "job-1")
     assert (code, out) == (0, "job-1 dismissed\n")
     assert service.requests[-1].method == "DELETE"
+
+
+# -- scripts: --json and the exit statuses ----------------------------------------------
+
+
+def test_json_of_processes_and_describe(run: Run, service: Canned) -> None:
+    code, out, _ = run("processes", "--json")
+    assert code == 0
+    assert json.loads(out) == [{"id": "alignment.rigid", "title": "Rigid alignment",
+                                "description": "", "version": "1.0.0",
+                                "jobControlOptions": []}]
+    code, out, _ = run("describe", "alignment.rigid", "--json")
+    assert code == 0 and json.loads(out) == DESCRIPTION  # the document, as the service sent it
+
+
+def test_json_of_jobs_and_status(run: Run, service: Canned) -> None:
+    code, out, _ = run("jobs", "--json")
+    assert code == 0 and json.loads(out) == [info("running", 50, "halfway")]
+    service.routes["GET /jobs/job-1"] = [ok(info("running", 50, "halfway"))]
+    code, out, _ = run("status", "job-1", "--json")
+    assert code == 0 and json.loads(out) == info("running", 50, "halfway")
+
+
+def test_json_of_execute(run: Run, service: Canned, tmp_path: Path) -> None:
+    code, out, _ = run("execute", "alignment.rigid", "--param", "source=[[0]]", "--json")
+    assert code == 0 and json.loads(out) == info()  # the status the service answered
+    code, out, _ = run("execute", "alignment.rigid", "--param", "source=[[0]]", "--wait",
+                       "--no-progress", "--json")
+    assert code == 0
+    assert json.loads(out) == {"jobID": "job-1", "processID": "alignment.rigid",
+                               "status": "successful", "results": RESULTS}
+    target = tmp_path / "r.json"
+    code, out, _ = run("execute", "alignment.rigid", "--param", "source=[[0]]", "--wait",
+                       "--no-progress", "--json", "--output", str(target))
+    assert code == 0 and json.loads(out)["output"] == str(target)
+    assert json.loads(target.read_text()) == RESULTS
+
+
+def test_execute_sends_the_time_limit(run: Run, service: Canned) -> None:
+    code, _, _ = run("execute", "alignment.rigid", "--param", "source=[[0]]",
+                     "--time-limit", "2.5")
+    assert code == 0
+    (request,) = [r for r in service.requests if r.method == "POST"]
+    assert json.loads(request.content)["timeLimit"] == 2.5
+
+
+@pytest.mark.parametrize(("slug", "status", "code"), [
+    ("invalid-input", 422, 3),
+    ("no-such-process", 404, 4),
+    ("not-found", 404, 4),
+    ("queue-full", 429, 1),
+    ("unauthorized", 401, 1),
+    ("service-unavailable", 503, 5),
+    ("internal-error", 500, 1),
+])
+def test_each_refusal_has_its_exit_status(run: Run, service: Canned, slug: str, status: int,
+                                          code: int) -> None:
+    service.routes["POST /processes/alignment.rigid/execution"] = [
+        problem(status, slug, slug.replace("-", " ").capitalize(), "Refused.")]
+    got, out, err = run("execute", "alignment.rigid", "--param", "source=[[0]]")
+    assert (got, out) == (code, "")
+    assert err.startswith("error: ")
+
+
+@pytest.mark.parametrize(("final", "slug", "status"), [
+    ("failed", "job-failed", 500),
+    ("failed", "time-limit-exceeded", 500),
+    ("dismissed", "job-dismissed", 410),
+])
+def test_a_job_that_did_not_succeed_exits_6(run: Run, service: Canned, final: str, slug: str,
+                                            status: int) -> None:
+    service.routes["GET /jobs/job-1"] = [ok(info(final, 100, "stopped"))]
+    service.routes["GET /jobs/job-1/results"] = [problem(status, slug, "Stopped", "It stopped.")]
+    code, out, err = run("execute", "alignment.rigid", "--wait", "--no-progress")
+    assert (code, out) == (6, "")
+    assert err == "error: Stopped: It stopped.\n"
+
+
+def test_results_not_ready_is_not_a_missing_job(run: Run, service: Canned) -> None:
+    service.routes["GET /jobs/job-1/results"] = [
+        problem(404, "result-not-ready", "Result not ready", "The job is running.")]
+    code, _, err = run("results", "job-1")
+    assert code == 1 and "Result not ready" in err
+
+
+def test_the_exit_statuses_are_documented() -> None:
+    """Each status is distinct, and listed in ``morphserve --help`` and the README's CLI
+    section with the same meaning."""
+    codes = [int(e) for e in cli.Exit]
+    assert len(set(codes)) == len(codes)
+    epilog = cli.build_parser().format_help().split("exit status:", 1)[1]
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    for code in cli.Exit:
+        assert re.search(rf"^  {int(code)} +\S", epilog, flags=re.M), code
+        assert re.search(rf"^\| {int(code)} \| .+ \|$", readme, flags=re.M), code
+
+
+def test_execute_takes_every_file_the_sdk_takes(tmp_path: Path) -> None:
+    """Every file suffix the SDK uploads (``morphserve._geometry.FILE_SUFFIXES``) is an
+    input file of ``morphserve execute`` too: geometry files go to the SDK as paths, .npy
+    files as their arrays."""
+    from morphserve._geometry import FILE_SUFFIXES
+
+    for suffix in sorted(FILE_SUFFIXES):
+        path = tmp_path / f"x{suffix}"
+        if suffix == ".npy":
+            np.save(path, np.eye(3))
+        else:
+            path.write_bytes(b"")
+        name, value = cli.parse_input(f"mesh={path}")
+        assert name == "mesh"
+        if suffix == ".npy":
+            np.testing.assert_array_equal(value, np.eye(3))
+        else:
+            assert value == path

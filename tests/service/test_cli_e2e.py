@@ -89,7 +89,7 @@ def test_processes_and_describe(server) -> None:  # noqa: ANN001
     assert out_names == {"transform", "linear", "rotation", "translation", "scale", "rmse",
                          "reflection"}
 
-    assert unknown.returncode == 1 and unknown.stdout == ""
+    assert unknown.returncode == 4 and unknown.stdout == ""  # not found
     assert unknown.stderr.startswith("error: No such process")
 
 
@@ -165,7 +165,7 @@ def test_job_commands(server, http, tmp_path: Path) -> None:  # noqa: ANN001
     # dismissing a finished job removes it
     assert _ok(morphserve("dismiss", job, url=server.url)).stdout.split() == [job, "dismissed"]
     gone = morphserve("status", job, url=server.url)
-    assert gone.returncode == 1 and gone.stderr.startswith("error: No such job")
+    assert gone.returncode == 4 and gone.stderr.startswith("error: No such job")
 
 
 def test_wait_timeout_then_dismiss_the_running_job(server, http) -> None:  # noqa: ANN001
@@ -177,13 +177,13 @@ def test_wait_timeout_then_dismiss_the_running_job(server, http) -> None:  # noq
     assert match, done.stderr
     job = match[1]
     try:
-        assert done.returncode == 1 and done.stderr.startswith("error: ")
+        assert done.returncode == 7 and done.stderr.startswith("error: ")  # timeout
         wait_for_status(http, job, ("running",), timeout=20)  # --timeout left it running
     finally:
         dismissed = morphserve("dismiss", job, url=server.url)
     assert _ok(dismissed).stdout.split() == [job, "dismissed"]
     results = morphserve("results", job, url=server.url)
-    assert results.returncode == 1 and results.stderr.startswith("error: Job dismissed")
+    assert results.returncode == 6 and results.stderr.startswith("error: Job dismissed")
 
 
 def test_invalid_input(server, files, tmp_path: Path) -> None:  # noqa: ANN001
@@ -191,7 +191,7 @@ def test_invalid_input(server, files, tmp_path: Path) -> None:  # noqa: ANN001
     np.save(tmp_path / "short.npy", np.zeros((3, 3)))
     done = morphserve("execute", "alignment.rigid", "--input", f"source={a}",
                       "--input", f"target={tmp_path / 'short.npy'}", "--wait", url=server.url)
-    assert done.returncode == 1 and done.stdout == ""
+    assert done.returncode == 3 and done.stdout == ""  # invalid input
     assert done.stderr.startswith("error: Invalid input")
     assert "\n  target: " in done.stderr  # the field, on a line of its own
 
@@ -209,7 +209,7 @@ def test_unsendable_input_is_an_error_not_a_traceback(
     done = morphserve("execute", "alignment.rigid", "--input", f"source={path}",
                       "--input", f"target={b}", "--wait", url=server.url)
     assert "Traceback" not in done.stderr, done.stderr
-    assert done.returncode == 1 and done.stderr.startswith("error: Invalid input")
+    assert done.returncode == 3 and done.stderr.startswith("error: Invalid input")
     assert "\n  source: " in done.stderr
 
 
@@ -229,7 +229,7 @@ def test_usage_errors_exit_2(server) -> None:  # noqa: ANN001
 def test_closed_port() -> None:
     url = f"http://127.0.0.1:{free_port()}"
     done = morphserve("processes", url=url)
-    assert done.returncode == 1 and done.stdout == ""
+    assert done.returncode == 5 and done.stdout == ""  # unreachable
     assert done.stderr.startswith(f"error: cannot reach {url}: ")
     assert "Connect" in done.stderr
     assert "Traceback" not in done.stderr and len(done.stderr.splitlines()) == 1
@@ -261,3 +261,137 @@ def test_execute_mesh_file_to_glb(server, tmp_path: Path) -> None:  # noqa: ANN0
     missing = morphserve("execute", "parameterization.tutte", "--input",
                          f"mesh={tmp_path / 'nope.ply'}", "--wait", url=server.url)
     assert missing.returncode == 2 and "no such file" in missing.stderr
+
+
+# -- scripts: --json, exit statuses, Ctrl-C, geometry files ------------------------------
+
+
+def test_json_output_for_scripts(server, files, motion) -> None:  # noqa: ANN001
+    a, b = files
+    _, _, rotation, _ = motion
+    listed, described, started, waited = together(
+        ("processes", "--json"), ("describe", "alignment.rigid", "--json"),
+        ("execute", "diagnostics.sleep", "--param", "seconds=0.1", "--param", "steps=1",
+         "--json"),
+        ("execute", "alignment.rigid", "--input", f"source={a}", "--input", f"target={b}",
+         "--wait", "--no-progress", "--json"),
+        url=server.url)
+    ids = [p["id"] for p in json.loads(_ok(listed).stdout)]
+    assert "alignment.rigid" in ids and "registration.icp" in ids
+    description = json.loads(_ok(described).stdout)
+    assert description["id"] == "alignment.rigid"
+    assert set(description["inputs"]) == {"source", "target", "weights", "allow_reflection"}
+    job = json.loads(_ok(started).stdout)
+    assert JOB_ID.match(job["jobID"]) and job["status"] in ("accepted", "running", "successful")
+    done = json.loads(_ok(waited).stdout)
+    assert done["status"] == "successful" and JOB_ID.match(done["jobID"])
+    np.testing.assert_allclose(done["results"]["rotation"], rotation, atol=1e-10)
+
+    status, jobs = together(("status", job["jobID"], "--json"),
+                            ("jobs", "--process", "diagnostics.sleep", "--json"),
+                            url=server.url)
+    assert json.loads(_ok(status).stdout)["jobID"] == job["jobID"]
+    listed_jobs = json.loads(_ok(jobs).stdout)
+    assert job["jobID"] in [j["jobID"] for j in listed_jobs]
+    assert {j["processID"] for j in listed_jobs} == {"diagnostics.sleep"}
+
+
+def test_mistakes_get_their_exit_status_and_a_suggestion(server, files) -> None:  # noqa: ANN001
+    a, b = files
+    patch = Path(__file__).resolve().parents[2] / "examples" / "meshes" / "patch.ply"
+    typo_process, typo_part, typo_input, failed = together(
+        ("describe", "registration.icpp"),
+        ("execute", "parameterization.tutte", "--input", f"mseh={patch}", "--wait"),
+        ("execute", "registration.icp", "--input", f"source={a}", "--input", f"target={b}",
+         "--param", "max_iter=5", "--wait"),
+        ("execute", "diagnostics.sleep", "--param", "seconds=60", "--param", "steps=6000",
+         "--time-limit", "0.5", "--wait", "--no-progress"),
+        url=server.url)
+    assert typo_process.returncode == 4, typo_process.stderr
+    assert "Did you mean `registration.icp`?" in typo_process.stderr
+    assert typo_input.returncode == 3, typo_input.stderr
+    assert "  max_iter: Unknown input `max_iter`; did you mean `max_iterations`?" in \
+        typo_input.stderr
+    assert typo_part.returncode == 3, typo_part.stderr  # a file sent as an unknown input
+    assert "  mseh: Unknown input `mseh`; did you mean `mesh`?" in typo_part.stderr
+    assert failed.returncode == 6, failed.stderr  # the job ran out of time: it failed
+    assert failed.stderr.startswith("error: ") and "Traceback" not in failed.stderr
+
+
+def _wait_for(path: Path, text: str, timeout: float = 30.0) -> None:
+    import time
+
+    deadline = time.monotonic() + timeout
+    while text not in path.read_text(encoding="utf-8", errors="replace"):
+        assert time.monotonic() < deadline, path.read_text(encoding="utf-8", errors="replace")
+        time.sleep(0.05)
+
+
+def test_ctrl_c_while_waiting_leaves_the_job_running(server, http, tmp_path: Path) -> None:  # noqa: ANN001
+    """Ctrl-C (SIGINT to the command's process group, as a terminal sends it) ends
+    ``execute --wait`` with status 130, a line saying the job goes on, no traceback."""
+    import signal
+
+    err = tmp_path / "stderr"
+    with open(err, "w") as stderr:
+        proc = subprocess.Popen(
+            [str(MORPHSERVE), "--url", server.url, "execute", "diagnostics.sleep", "--param",
+             "seconds=60", "--param", "steps=6000", "--wait"],
+            stdout=subprocess.PIPE, stderr=stderr, text=True, start_new_session=True,
+            env={k: v for k, v in os.environ.items() if k != "MORPHSERVE_API_KEY"})
+    try:
+        _wait_for(err, "%")  # the progress bar is up: the command is waiting
+        os.killpg(proc.pid, signal.SIGINT)
+        out, _ = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    text = err.read_text(encoding="utf-8")
+    match = re.search(r"interrupted; job (\S+) goes on \(morphserve dismiss \1 stops it\)", text)
+    assert proc.returncode == 130 and out == "" and match, text
+    assert "Traceback" not in text and "KeyboardInterrupt" not in text
+    try:
+        assert wait_for_status(http, match[1], ("running",), timeout=20)["status"] == "running"
+    finally:
+        _ok(morphserve("dismiss", match[1], url=server.url))
+
+
+def test_ctrl_c_stops_the_service_cleanly(tmp_path: Path) -> None:
+    """Ctrl-C to ``morphserve serve`` (the whole process group: the service and its Dask
+    workers) shuts it down with no traceback from any process."""
+    import signal
+
+    from tests.live import LiveServer
+
+    srv = LiveServer(tmp_path / "data").start()
+    assert srv.proc is not None
+    os.killpg(srv.proc.pid, signal.SIGINT)
+    try:
+        code = srv.proc.wait(timeout=60)
+    finally:
+        if srv.proc.poll() is None:
+            srv.kill()
+    log = srv.log.read_text(encoding="utf-8", errors="replace")
+    assert "Application shutdown complete" in log, log
+    assert "Traceback" not in log and "KeyboardInterrupt" not in log, log
+    assert code == 130, log
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".obj", ".off", ".stl", ".glb"])
+def test_execute_takes_each_geometry_file(server, tmp_path: Path, suffix: str) -> None:  # noqa: ANN001
+    """The mesh files the SDK uploads, from the command line: a disk of 16 vertices is
+    unwrapped with every vertex inside the unit circle and no face flipped."""
+    import trimesh
+
+    x, y = np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 4))
+    vertices = np.column_stack([x.ravel(), y.ravel(), 0.1 * x.ravel() ** 2])
+    faces = [[i * 4 + j, i * 4 + j + 1, i * 4 + j + 5] for i in range(3) for j in range(3)]
+    faces += [[i * 4 + j, i * 4 + j + 5, i * 4 + j + 4] for i in range(3) for j in range(3)]
+    path = tmp_path / f"disk{suffix}"
+    trimesh.Trimesh(vertices, faces, process=False).export(path)
+    done = _ok(morphserve("execute", "parameterization.tutte", "--input", f"mesh={path}",
+                          "--wait", "--no-progress", "--json", url=server.url))
+    results = json.loads(done.stdout)["results"]
+    uv = np.asarray(results["uv"])
+    assert uv.shape == (16, 2) and results["flipped_faces"] == 0
+    assert np.all(np.linalg.norm(uv, axis=1) <= 1 + 1e-9)

@@ -85,7 +85,7 @@ _COMMON = [  # (inputs, field, fragment of the message); every method takes thes
     ({"source": SRC, "target": [[0.0, 0.0, 0.0]]}, "target", "same dimension"),
     ({"source": [0.0, 1.0], "target": DST}, "source", "got shape (2,)"),
     ({"target": DST}, "source", "Field required"),
-    ({"source": SRC, "target": DST, "bogus": 1}, "bogus", "Extra inputs"),
+    ({"source": SRC, "target": DST, "bogus": 1}, "bogus", "Unknown input `bogus`"),
 ]
 
 
@@ -120,7 +120,7 @@ _BIG = [[float(i)] for i in range(4001)]  # 4,001 × 4,000 > 16 million pairs
     ("optimal_transport", {"source_weights": [[1, 1, 1]]}, "source_weights", "flat list"),
     ("optimal_transport", {"target_weights": [1, 1, 1]}, "target_weights", "(2,)"),
     ("optimal_transport", {"target_weights": [1, INF]}, "target_weights", "inf"),
-    ("closest_pair", {"workers": 2}, "workers", "Extra inputs"),  # not offered over HTTP
+    ("closest_pair", {"workers": 2}, "workers", "does not offer"),  # not offered over HTTP
 ])
 def test_invalid_options_name_the_input(http, method, extra, field, fragment) -> None:
     body = _invalid(execute(http, f"assignment.{method}", {"source": SRC, "target": DST, **extra},
