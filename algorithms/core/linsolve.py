@@ -3,37 +3,62 @@ the pinned block split of a Laplacian system.
 
 Backends
 --------
-:class:`Factor` takes the first backend that is installed and accepts the matrix:
+:class:`Factor` takes the first backend that is installed and accepts the matrix, in the
+order of :data:`BACKENDS` (fastest factorization first) or, with ``prefer="solve"``, of
+:data:`SOLVE_ORDER` (fastest repeated solves first):
 
-1. ``"cholmod"``: SuiteSparse CHOLMOD (supernodal Cholesky, fill-reducing ordering) through
-   ``cvxopt.cholmod``; cvxopt ships CHOLMOD inside its manylinux wheels, so it installs
-   with pip alone.
-2. ``"cholespy"``: the sparse Cholesky of ``cholespy`` (wheels; slower to factor, fastest
-   to solve: blocked over right-hand sides and multi-threaded).
-3. ``"superlu"``: SciPy's SuperLU (always there) with the symmetric ``MMD_AT_PLUS_A``
-   ordering and no pivoting threshold (SPD matrices need none); it also handles
-   symmetric indefinite matrices, so a matrix a Cholesky backend refuses as not positive
-   definite falls back to it.
+* ``"cholmod"``: SuiteSparse CHOLMOD (supernodal Cholesky, fill-reducing ordering) through
+  ``cvxopt.cholmod``; cvxopt ships CHOLMOD inside its wheels. **Optional**: cvxopt and
+  CHOLMOD are GPL-3.0-or-later, so they are not part of the default install; they come
+  with ``pip install 'morphserve[cholmod]'`` (or the image's ``EXTRAS=cholmod``). Without
+  cvxopt this backend is simply not available, and nothing imports it.
+* ``"superlu"``: SciPy's SuperLU (BSD-3-Clause, always there) with the symmetric
+  ``MMD_AT_PLUS_A`` ordering and no pivoting threshold (SPD matrices need none); it also
+  handles symmetric indefinite matrices, so a matrix a Cholesky backend refuses as not
+  positive definite falls back to it.
+* ``"cholespy"``: the sparse Cholesky of ``cholespy`` (BSD-3-Clause, wheels; slow to
+  factor, fastest to solve: blocked over right-hand sides and multi-threaded).
 
-Measured on this machine (2 cores, shared with other work, so medians of 5-9 runs vary by
-up to 2×) for the pinned cotangent Laplacian of a 50,176-vertex jittered wavy grid (49,284
-free vertices, 343k non-zeros; ``bench/solvers.py`` prints these)::
+The orders come from ``bench/linsolve.py``, which runs every candidate side by side on the
+systems this package solves, each at about 5k, 50k and 200k vertices: the pinned cotangent
+Laplacian of a jittered wavy grid (harmonic and biharmonic deformation, Tutte and
+Laplacian layout), the ARAP free block of a torus with 1 % of its vertices pinned, and the
+LSCM matrix ``Q`` (``2n`` unknowns) of the grid with two pins. Medians of 3 interleaved
+runs on a shared 2-core machine under a load average of 2.4-3.3 (CHOLMOD on cvxopt's
+OpenBLAS with 1 thread, cholespy with its own pool of 2, SuperLU and qdldl one thread), so
+only the ratios within a row mean much. Factor in seconds, the solve of 3 right-hand sides
+in milliseconds::
 
-    backend                    factor         solve, 1 / 3 / 6 right-hand sides
-    cholmod (cvxopt 1.3.3)     0.08-0.16 s    14 / 45 / 90 ms   (one column at a time)
-    cholespy 2.2.0             0.51-0.81 s     9 / 12 / 30 ms   (blocked, 2 threads)
-    superlu (scipy 1.17)       0.35-0.59 s    15 / 24 / 125 ms  (COLAMD ordering: 0.60 s)
-    scikit-sparse              no wheel for Linux/CPython 3.11 (needs SuiteSparse headers)
-    sksparse-minimal 0.3       0.25 s         46 ms for 3       (a wheel, but its extension
-                                                                 clashes with cholespy's)
+                                      factor (s)                   solve, 3 rhs (ms)
+    system           unknowns  cholmod superlu cholespy qdldl   cholmod superlu cholespy
+    Laplacian 5k        4,761    0.004   0.007   0.015  0.005       0.6     0.6     0.2
+    ARAP 5k             4,954    0.005   0.014   0.015  0.009       0.7     0.8     0.3
+    LSCM 5k            10,078    0.008   0.020   0.038  0.016       1.8     1.3     0.5
+    Laplacian 50k      49,284    0.046   0.164   0.237  0.085      15.3     9.4     5.5
+    ARAP 50k           49,482    0.069   0.276   0.311  0.289      20.2    14.4     6.9
+    LSCM 50k          100,348    0.132   0.477   0.724  0.385      40.5    29.1    15.7
+    Laplacian 200k    198,916    0.330   1.356   1.785  1.124      90.1    70.0    43.5
+    ARAP 200k         197,942    0.584   2.408   1.875  4.800     114.3    98.8    33.8
+    LSCM 200k         401,404    0.764   2.958   5.594  5.808     185.3   200.5    76.2
 
-CHOLMOD factors 3-5× faster than the others, which dominates one-shot solves (Tutte layout,
-harmonic and biharmonic deformation: factor once, solve once), so cvxopt is a dependency and
-``"cholmod"`` leads the default order. Its solves are the slowest per right-hand side, so
-for a factorization reused many times (ARAP iterations, a solver object dragged
-interactively) pass ``prefer="solve"``: cholespy first, it pays back its slower
-factorization after about 15 solves of 3 right-hand sides. The orders are the fallback
-orders when a backend is missing.
+(cvxopt 1.3.3, scipy 1.17.1, cholespy 2.2.0, qdldl 0.1.9; residuals ``‖A x - b‖∞ / ‖b‖∞``
+at most 1e-13, 1e-8 for the ill-conditioned LSCM matrices, alike for every backend.)
+
+* Of the two permissive backends SuperLU factors faster in 8 of the 9 systems (1.1-2.1×
+  faster than cholespy; cholespy is 1.3× faster only on the 200k torus), so it comes
+  first in the default install, for one-shot solves (factor once, solve once).
+* cholespy solves 1.6-3× faster than SuperLU and 2.1-3.6× faster than CHOLMOD with 3
+  right-hand sides, so it leads :data:`SOLVE_ORDER` (ARAP's iterations, a factorization
+  kept for many solves): it pays back its slower factorization after about 20 solves.
+* CHOLMOD, when the extra is installed, factors 3.6-4.1× faster than SuperLU at 50k and
+  200k vertices (1.8-2.8× at 5k), so it leads :data:`BACKENDS`; its solves are no faster
+  than SuperLU's, so it comes last in :data:`SOLVE_ORDER`.
+* qdldl (Apache-2.0, LDLᵀ with an AMD ordering, wheels) factors the 5k systems and the
+  50k and 200k grids 1.2-1.9× faster than SuperLU, ties on the 50k torus and is 2× slower
+  on the 200k torus and LSCM matrix (its factorization has no supernodes), so it is not a
+  dependency; the bench still times it when it is installed.
+* scikit-sparse (CHOLMOD) is GPL and has no wheels; SciPy's ``spsolve`` with UMFPACK
+  needs scikit-umfpack (GPL); PARDISO needs Intel's MKL (not an open-source licence).
 
 The pinned split
 ----------------
@@ -53,7 +78,8 @@ the angles). :class:`PinnedSystem` checks that and names the component that has 
 
 from __future__ import annotations
 
-import importlib.util
+import functools
+import importlib
 from typing import Any, Literal
 
 import numpy as np
@@ -66,17 +92,32 @@ from algorithms.core.validation import as_choice, as_indices
 
 __all__ = ["Factor", "PinnedSystem", "BACKENDS", "SOLVE_ORDER", "available_backends"]
 
-#: Backends in order of preference (see the module docstring for the measurements).
-BACKENDS = ("cholmod", "cholespy", "superlu")
+#: Backends in order of preference: fastest factorization first (the module docstring has
+#: the measurements). ``"cholmod"`` is there only with the ``cholmod`` extra (cvxopt).
+BACKENDS = ("cholmod", "superlu", "cholespy")
 #: The order for ``prefer="solve"``: fastest repeated solves first.
-SOLVE_ORDER = ("cholespy", "cholmod", "superlu")
+SOLVE_ORDER = ("cholespy", "superlu", "cholmod")
 
 _MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy"}
+#: How to get each backend, for the error that asks for one not installed.
+_INSTALL = {"cholmod": "pip install 'morphserve[cholmod]' (cvxopt, GPL-3.0)",
+            "cholespy": "pip install cholespy", "superlu": "pip install scipy"}
+
+
+@functools.cache
+def _importable(module: str) -> bool:
+    """Whether ``module`` imports: a missing optional backend (cvxopt without the
+    ``cholmod`` extra) or one whose import fails (a broken build) is not offered."""
+    try:
+        importlib.import_module(module)
+    except ImportError:
+        return False
+    return True
 
 
 def available_backends() -> tuple[str, ...]:
     """The installed backends, in order of preference."""
-    return tuple(b for b in BACKENDS if importlib.util.find_spec(_MODULES[b]) is not None)
+    return tuple(b for b in BACKENDS if _importable(_MODULES[b]))
 
 
 class _NotPositiveDefinite(Exception):
@@ -162,9 +203,10 @@ class Factor:
         Symmetric positive definite (the Cholesky backends read its lower triangle only).
         A symmetric indefinite but non-singular matrix is accepted too: a Cholesky backend
         refuses it and SuperLU takes over.
-    backend : {"auto", "cholmod", "cholespy", "superlu"}, default "auto"
+    backend : {"auto", "cholmod", "superlu", "cholespy"}, default "auto"
         ``"auto"`` takes the first installed of :data:`BACKENDS` (or of
-        :data:`SOLVE_ORDER` with ``prefer="solve"``).
+        :data:`SOLVE_ORDER` with ``prefer="solve"``). ``"cholmod"`` needs the optional
+        ``cholmod`` extra (cvxopt, GPL-3.0).
     prefer : {"factor", "solve"}, default "factor"
         What ``"auto"`` optimises: the factorization (few solves per factorization) or the
         solves (many: iterations, interactive handles).
@@ -214,7 +256,7 @@ class Factor:
         elif backend not in installed:
             raise InvalidInputError(
                 f"Expected `backend` to be an installed solver backend ({', '.join(installed)}),"
-                f" got {backend!r} (install {_MODULES[backend]}).", field="backend")
+                f" got {backend!r} (to install it: {_INSTALL[backend]}).", field="backend")
         else:
             order = [backend] + (["superlu"] if backend != "superlu" else [])
         self._impl: _Backend | None = None  # None only when n == 0

@@ -1,6 +1,18 @@
-"""Tests for algorithms.core.linsolve: Factor (every backend) and PinnedSystem."""
+"""Tests for algorithms.core.linsolve: Factor (every backend) and PinnedSystem.
+
+CHOLMOD (cvxopt, GPL-3.0) is an optional extra: the tests of every backend run it when cvxopt
+is installed (the test extra installs it) and report it skipped when not, and the default
+install's path, without cvxopt, is tested on its own in a subprocess that hides it.
+"""
 
 from __future__ import annotations
+
+import importlib.util
+import json
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
 
 import igl
 import numpy as np
@@ -32,11 +44,28 @@ def spd(n: int = 60, seed: int = 0) -> sp.csr_array:
     return (L + sp.eye_array(L.shape[0]) * 1e-2).tocsr()
 
 
-def test_all_backends_installed_here():
-    assert available_backends() == BACKENDS
+HAVE_CVXOPT = importlib.util.find_spec("cvxopt") is not None
+#: every backend; CHOLMOD reported as skipped (not passed) without the cholmod extra
+EVERY_BACKEND = [pytest.param(b, marks=pytest.mark.skipif(
+    b == "cholmod" and not HAVE_CVXOPT, reason="cvxopt (the cholmod extra) not installed"))
+    for b in BACKENDS]
+ROOT = Path(__file__).resolve().parents[3]
 
 
-@pytest.mark.parametrize("backend", BACKENDS)
+def test_installed_backends():
+    # the default install's two backends are always there; CHOLMOD exactly with cvxopt
+    assert available_backends() == tuple(b for b in BACKENDS if b != "cholmod" or HAVE_CVXOPT)
+    assert {"superlu", "cholespy"} <= set(available_backends())
+
+
+def test_backend_orders():
+    # bench/linsolve.py: SuperLU factors faster than cholespy, cholespy solves faster than
+    # either; CHOLMOD factors fastest, so it leads when installed
+    assert BACKENDS == ("cholmod", "superlu", "cholespy")
+    assert linsolve.SOLVE_ORDER[0] == "cholespy" and set(linsolve.SOLVE_ORDER) == set(BACKENDS)
+
+
+@pytest.mark.parametrize("backend", EVERY_BACKEND)
 def test_factor_solves_like_spsolve(backend):
     A = spd()
     rng = np.random.default_rng(1)
@@ -54,7 +83,7 @@ def test_factor_solves_like_spsolve(backend):
 
 
 def test_factor_auto_takes_the_first_backend():
-    assert Factor(spd()).backend == BACKENDS[0]
+    assert Factor(spd()).backend == ("cholmod" if HAVE_CVXOPT else "superlu")
     assert Factor(spd(), prefer="solve").backend == linsolve.SOLVE_ORDER[0]
     assert PinnedSystem(spd(), [0], prefer="solve").factor.backend == "cholespy"
     with pytest.raises(InvalidInputError, match=r"`prefer` to be one of 'factor', 'solve', got "
@@ -65,11 +94,11 @@ def test_factor_auto_takes_the_first_backend():
 def test_factor_accepts_dense_and_fortran_rhs():
     A = np.array([[4.0, 1.0], [1.0, 3.0]])
     b = np.asfortranarray(np.array([[1.0, 0.0], [2.0, 1.0]]))
-    for backend in BACKENDS:
+    for backend in available_backends():
         np.testing.assert_allclose(Factor(A, backend=backend).solve(b), np.linalg.solve(A, b))
 
 
-@pytest.mark.parametrize("backend", ["cholmod", "cholespy"])
+@pytest.mark.parametrize("backend", [p for p in EVERY_BACKEND if p.values[0] != "superlu"])
 def test_indefinite_matrix_falls_back_to_superlu(backend):
     A = sp.csr_array(np.array([[1.0, 2.0], [2.0, 1.0]]))
     f = Factor(A, backend=backend)
@@ -105,14 +134,15 @@ def test_factor_rejects_non_square_and_bad_rhs():
 
 def test_factor_rejects_unknown_backend():
     with pytest.raises(InvalidInputError, match=r"`backend` to be one of 'auto', 'cholmod', "
-                       r"'cholespy', 'superlu', got 'pardiso'\."):
+                       r"'superlu', 'cholespy', got 'pardiso'\."):
         Factor(np.eye(2), backend="pardiso")
 
 
 def test_factor_rejects_uninstalled_backend(monkeypatch):
     monkeypatch.setattr(linsolve, "available_backends", lambda: ("superlu",))
     with pytest.raises(InvalidInputError, match=r"installed solver backend \(superlu\), got "
-                       r"'cholmod' \(install cvxopt\)\.") as info:
+                       r"'cholmod' \(to install it: pip install 'morphserve\[cholmod\]' "
+                       r"\(cvxopt, GPL-3\.0\)\)\.") as info:
         Factor(np.eye(2), backend="cholmod")
     assert info.value.field == "backend"
     assert Factor(np.eye(2)).backend == "superlu"
@@ -136,7 +166,7 @@ def test_pinned_path_by_hand():
     np.testing.assert_allclose(ps.solve([0.0, 1.0], rhs=[9.0, 3.0, 9.0]), [0.0, 2.0, 1.0])
 
 
-@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("backend", EVERY_BACKEND)
 def test_harmonic_interpolation_matches_igl(backend):
     v, f = grid()
     v3 = np.c_[v, np.zeros(len(v))]
@@ -175,7 +205,9 @@ def test_backends_agree():
     L = cotangent_laplacian(v, f)
     pins = [0, 50, 119]
     c = np.random.default_rng(3).standard_normal((3, 3))
-    sols = [PinnedSystem(L, pins, backend=b).solve(c) for b in BACKENDS]
+    backends = available_backends()
+    assert len(backends) >= 2
+    sols = [PinnedSystem(L, pins, backend=b).solve(c) for b in backends]
     for s in sols[1:]:
         np.testing.assert_allclose(s, sols[0], atol=1e-10)
 
@@ -256,3 +288,63 @@ def test_sphere_with_one_pin_per_component_is_solvable():
     L = cotangent_laplacian(v, f)
     x = PinnedSystem(L, [5]).solve([[1.0]])
     np.testing.assert_allclose(x, 1.0, atol=1e-12)          # constant is the harmonic function
+
+
+# --- the default install: no cvxopt ----------------------------------------------------------
+
+_WITHOUT_CVXOPT = textwrap.dedent("""
+    import json, pkgutil, sys
+    sys.modules["cvxopt"] = None          # as if not installed: every import of it fails
+    import importlib
+    import numpy as np
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as sla
+    import algorithms
+    for m in pkgutil.walk_packages(algorithms.__path__, "algorithms."):
+        importlib.import_module(m.name)   # every module imports without cvxopt
+    from algorithms.core.errors import InvalidInputError
+    from algorithms.core.linsolve import Factor, PinnedSystem, available_backends
+    n = 40
+    a = sp.diags_array([-np.ones(n - 1), 2.0 + np.linspace(0, 1, n), -np.ones(n - 1)],
+                       offsets=[-1, 0, 1], format="csc")
+    b = np.random.default_rng(0).standard_normal((n, 3))
+    f, g = Factor(a), Factor(a, prefer="solve")
+    lap = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    try:
+        Factor(a, backend="cholmod")
+        refused = ""
+    except InvalidInputError as e:
+        refused = str(e)
+    print(json.dumps({
+        "available": available_backends(), "auto": f.backend, "solve": g.backend,
+        "error": float(max(abs(f.solve(b) - sla.spsolve(a, b)).max(),
+                           abs(g.solve(b) - sla.spsolve(a, b)).max())),
+        "indefinite": Factor(sp.csr_array([[1.0, 2.0], [2.0, 1.0]])).backend,
+        "pinned": PinnedSystem(lap, [0, 2]).solve([0.0, 1.0]).tolist(),
+        "refused": refused,
+        "cvxopt_loaded": sys.modules.get("cvxopt") is not None}))
+""")
+
+
+def test_default_install_works_without_cvxopt():
+    out = subprocess.run([sys.executable, "-c", _WITHOUT_CVXOPT], cwd=ROOT, check=True,
+                         capture_output=True, text=True, timeout=240).stdout
+    got = json.loads(out.strip().splitlines()[-1])
+    assert got["available"] == ["superlu", "cholespy"]
+    assert got["auto"] == "superlu" and got["solve"] == "cholespy"
+    assert got["error"] < 1e-10
+    assert got["indefinite"] == "superlu"
+    assert got["pinned"] == [0.0, 0.5, 1.0]
+    assert "pip install 'morphserve[cholmod]'" in got["refused"]
+    assert got["cvxopt_loaded"] is False
+
+
+def test_auto_order_without_cholmod(monkeypatch):
+    # the same choice in-process, with CHOLMOD reported missing
+    monkeypatch.setattr(linsolve, "available_backends", lambda: ("superlu", "cholespy"))
+    A = spd()
+    f = Factor(A)
+    assert f.backend == "superlu"
+    assert Factor(A, prefer="solve").backend == "cholespy"
+    b = np.random.default_rng(4).standard_normal(A.shape[0])
+    np.testing.assert_allclose(f.solve(b), sla.spsolve(A.tocsc(), b), rtol=1e-10, atol=1e-12)
