@@ -112,8 +112,13 @@ def python_snippet(argv: list[str], what: str) -> str:
     return argv[index + 1]
 
 
+def with_defaults(text: str) -> str:
+    """Compose's ``${VAR:-default}`` interpolation as it resolves with none of them set."""
+    return re.sub(r"\$\{[A-Za-z_][A-Za-z0-9_]*:-([^}]*)\}", r"\1", text)
+
+
 def load_compose() -> dict[str, Any]:
-    data = yaml.safe_load(COMPOSE.read_text())
+    data = yaml.safe_load(with_defaults(COMPOSE.read_text()))
     assert isinstance(data, dict), "compose.yaml must be a mapping"
     return data
 
@@ -233,6 +238,28 @@ def test_dockerfile_is_multi_stage_on_python_311_slim() -> None:
     assert not re.search(r"\b(apt-get|apt)\s+install\b", text), "no apt packages in the runtime"
     for tool in ("gcc", "build-essential", "git"):
         assert not re.search(rf"\b{tool}\b", text), f"{tool} should not be in the runtime stage"
+
+
+@pytest.mark.parametrize("extras", ["", "cholmod", " cholmod , progress"])
+def test_dockerfile_requirements_are_pyprojects_dependencies(extras: str) -> None:
+    """The requirements stage's one-liner lists the dependencies of pyproject.toml and those of
+    the optional groups named in EXTRAS, nothing else."""
+    import tomllib
+
+    runs = [args for kw, args in dockerfile_instructions()
+            if kw == "RUN" and "requirements.txt" in args and "tomllib" in args]
+    assert len(runs) == 1, "expected one RUN that writes requirements.txt from pyproject.toml"
+    argv = shlex.split(runs[0])
+    code = python_snippet(argv[: argv.index(">")], "requirements RUN")
+    proc = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env={"EXTRAS": extras},
+                          capture_output=True, text=True, timeout=30)
+    assert proc.returncode == 0, proc.stderr
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    expected = list(project["dependencies"])
+    for group in filter(None, (e.strip() for e in extras.split(","))):
+        expected += project["optional-dependencies"][group]
+    assert proc.stdout.split("\n")[:-1] == expected
+    assert "numpy>=2.0" in expected and ("cvxopt>=1.3" in expected) == ("cholmod" in extras)
 
 
 def test_dockerfile_runtime_environment_volume_and_port() -> None:
@@ -365,6 +392,24 @@ def test_compose_binds_published_ports_to_loopback_only() -> None:
                 parts = str(port).split(":")
                 host_ip = parts[0] if len(parts) == 3 else None
             assert host_ip == "127.0.0.1", f"{name}: port {port} is not bound to 127.0.0.1"
+
+
+def test_compose_ports_and_image_are_configurable_with_todays_defaults() -> None:
+    """MORPHSERVE_PORT and MORPHSERVE_IMAGE move a second stack (the container tests') beside
+    the first; unset, the file means what it always meant."""
+    raw = yaml.safe_load(COMPOSE.read_text())["services"]
+    assert raw["api"]["ports"] == ["127.0.0.1:${MORPHSERVE_PORT:-8000}:8000"]
+    assert {raw[name]["image"] for name in SERVICES} == {"${MORPHSERVE_IMAGE:-morphserve:local}"}
+    assert compose_services()["api"]["image"] == "morphserve:local"
+
+
+def test_compose_publishes_no_dask_port() -> None:
+    """Nobody but the service and its workers may talk to the scheduler: neither its port
+    (8786) nor its dashboard (8787) is published."""
+    for name, service in compose_services().items():
+        for port in service.get("ports", []) or []:
+            container_port = str(port.get("target") if isinstance(port, dict) else port)
+            assert not container_port.endswith(("8786", "8787")), f"{name} publishes {port}"
 
 
 def test_compose_workers_are_replicated_with_a_memory_limit() -> None:
@@ -503,6 +548,39 @@ def test_worker_command_becomes_a_valid_dask_worker_command_line() -> None:
         pytest.fail(f"`{shlex.join(dask_argv)}` rejected by `dask worker`: {exc.format_message()}")
     if args.memory_limit is not None:
         parse_bytes(args.memory_limit)  # raises on a size dask cannot read
+
+
+def test_tls_override_switches_every_dask_link_to_tls() -> None:
+    """docker/compose.tls.yaml: the scheduler listens on TLS, the API and the workers join it
+    on tls://, all three with the CA, a certificate and its key from mounted secrets; the
+    commands still parse with the real CLIs."""
+    import click
+    from distributed.cli.dask_scheduler import main as dask_scheduler
+
+    from service.cli import build_parser
+
+    tls = yaml.safe_load(with_defaults((DOCKER_DIR / "compose.tls.yaml").read_text()))
+    services = tls["services"]
+    assert set(services) == set(SERVICES)
+    scheduler = command_argv(services["scheduler"], "scheduler")
+    assert option_value(scheduler, "--protocol") == "tls"
+    try:
+        dask_scheduler.make_context("dask scheduler", scheduler[2:])
+    except click.ClickException as exc:
+        pytest.fail(f"`{shlex.join(scheduler)}` rejected by the dask CLI: {exc.format_message()}")
+    for name in ("api", "worker"):
+        args = build_parser().parse_args(command_argv(services[name], name)[1:])
+        assert args.scheduler == "tls://scheduler:8786", name
+    declared = tls["secrets"]
+    for name, service in services.items():
+        env = environment(service)
+        assert env["DASK_DISTRIBUTED__COMM__REQUIRE_ENCRYPTION"] == "true", name
+        mounted = {f"/run/secrets/{s}" for s in service["secrets"]}
+        assert set(service["secrets"]) <= set(declared), name
+        paths = {v for k, v in env.items() if k.startswith("DASK_DISTRIBUTED__COMM__TLS__")}
+        assert paths and paths <= mounted, f"{name}: TLS files not from its secrets: {paths}"
+    assert {s["file"].rsplit("/", 1)[1] for s in declared.values()} == {
+        "ca.pem", "dask.pem", "dask-key.pem"}
 
 
 # --------------------------------------------------------------------------------------------
