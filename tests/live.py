@@ -18,7 +18,7 @@ from typing import Any
 
 import httpx
 
-__all__ = ["LiveServer", "free_port", "execute", "wait_for_status", "TERMINAL"]
+__all__ = ["LiveServer", "free_port", "execute", "example", "wait_for_status", "TERMINAL"]
 
 TERMINAL = ("successful", "failed", "dismissed")
 REPO = Path(__file__).resolve().parents[1]
@@ -141,3 +141,13 @@ def execute(http: httpx.Client, process_id: str, inputs: dict[str, Any], *,
         headers["Prefer"] = prefer
     return http.post(f"/processes/{process_id}/execution",
                      content=json.dumps({"inputs": inputs, **body}), headers=headers)
+
+
+def example(http: httpx.Client, process_id: str) -> dict[str, Any]:
+    """The example inputs of a process, as a client finds them: in the service's OpenAPI
+    document, on the process's own execute operation (what Swagger's "Try it out" sends)."""
+    doc = http.get("/openapi.json").json()
+    content = doc["paths"][f"/processes/{process_id}/execution"]["post"]["requestBody"][
+        "content"]["application/json"]
+    inputs: dict[str, Any] = next(iter(content["examples"].values()))["value"]["inputs"]
+    return inputs

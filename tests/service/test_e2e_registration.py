@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from tests.live import execute
+from tests.live import example, execute
 
 pytestmark = pytest.mark.e2e
 
@@ -26,9 +26,8 @@ def _cloud(n: int = 200, seed: int = 0) -> np.ndarray:
 
 
 def test_icp_solves_its_example(http) -> None:
-    desc = http.get("/processes/registration.icp").json()
-    example = {k: desc["inputs"][k]["schema"]["examples"][0] for k in ("source", "target")}
-    r = execute(http, "registration.icp", example)
+    given = example(http, "registration.icp")
+    r = execute(http, "registration.icp", {k: given[k] for k in ("source", "target")})
     assert r.status_code == 200, r.text
     doc = r.json()
     c, s = np.cos(np.radians(10.0)), np.sin(np.radians(10.0))

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from tests.live import execute
+from tests.live import example, execute
 
 pytestmark = pytest.mark.e2e
 
@@ -25,9 +25,8 @@ def _cloud(n: int = 200, seed: int = 0) -> np.ndarray:
 
 
 def test_cpd_solves_its_example(http) -> None:
-    desc = http.get("/processes/registration.cpd").json()
-    example = {k: desc["inputs"][k]["schema"]["examples"][0] for k in ("source", "target")}
-    r = execute(http, "registration.cpd", example)
+    given = example(http, "registration.cpd")
+    r = execute(http, "registration.cpd", {k: given[k] for k in ("source", "target")})
     assert r.status_code == 200, r.text
     doc = r.json()
     c, s = np.cos(np.radians(10.0)), np.sin(np.radians(10.0))
@@ -35,7 +34,7 @@ def test_cpd_solves_its_example(http) -> None:
     np.testing.assert_allclose(doc["translation"], [0.1, 0, 0], atol=1e-9)
     assert doc["scale"] == pytest.approx(1.5, rel=1e-9)
     assert doc["converged"] is True
-    np.testing.assert_allclose(doc["moved"], example["target"], atol=1e-9)
+    np.testing.assert_allclose(doc["moved"], given["target"], atol=1e-9)
 
 
 def test_cpd_models_over_http(http) -> None:

@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 
 from algorithms.core import ConvergenceWarning
 from algorithms.registration import multiway
-from tests.live import execute
+from tests.live import example, execute
 
 pytestmark = pytest.mark.e2e
 
@@ -31,9 +31,8 @@ def _cloud(n: int = 300, seed: int = 0) -> np.ndarray:
 def test_multiway_solves_its_example(http) -> None:
     # The example: an L of 5 points, the same turned by +90° and shifted by (5, 0), and the
     # same doubled and shifted by (0, 3). Similarity maps them back exactly.
-    desc = http.get("/processes/registration.multiway").json()
-    example = {"sets": desc["inputs"]["sets"]["schema"]["examples"][0], "model": "similarity"}
-    r = execute(http, "registration.multiway", example)
+    given = {"sets": example(http, "registration.multiway")["sets"], "model": "similarity"}
+    r = execute(http, "registration.multiway", given)
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["transforms"][1], [[0, 1, 0], [-1, 0, 5], [0, 0, 1]],
@@ -41,10 +40,10 @@ def test_multiway_solves_its_example(http) -> None:
     np.testing.assert_allclose(doc["transforms"][2], [[0.5, 0, 0], [0, 0.5, -1.5], [0, 0, 1]],
                                atol=1e-9)
     np.testing.assert_allclose(doc["scales"], [1, 1, 0.5], atol=1e-12)
-    np.testing.assert_allclose(doc["mean_shape"], example["sets"][0], atol=1e-9)
+    np.testing.assert_allclose(doc["mean_shape"], given["sets"][0], atol=1e-9)
     assert doc["converged"] is True and doc["edges"] == [] and doc["fitness"] == [1, 1, 1]
     # rigid cannot undo the doubling: a residual remains, set 0 stays the reference
-    r = execute(http, "registration.multiway", {"sets": example["sets"]})
+    r = execute(http, "registration.multiway", {"sets": given["sets"]})
     assert r.status_code == 200, r.text
     doc = r.json()
     np.testing.assert_allclose(doc["transforms"][0], np.eye(3), atol=0)

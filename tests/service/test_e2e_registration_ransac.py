@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from tests.live import execute
+from tests.live import example, execute
 
 pytestmark = pytest.mark.e2e
 
@@ -36,10 +36,9 @@ def _angle(a: Any, b: np.ndarray) -> float:
 
 
 def test_ransac_solves_its_example(http) -> None:
-    desc = http.get("/processes/registration.ransac").json()
-    example = {k: desc["inputs"][k]["schema"]["examples"][0]
-               for k in ("source", "target", "features", "max_correspondence_distance")}
-    r = execute(http, "registration.ransac", example)
+    given = example(http, "registration.ransac")
+    r = execute(http, "registration.ransac", {
+        k: given[k] for k in ("source", "target", "features", "max_correspondence_distance")})
     assert r.status_code == 200, r.text
     doc = r.json()
     c, s = np.cos(np.radians(120.0)), np.sin(np.radians(120.0))
