@@ -29,14 +29,19 @@ import pybase64
 
 from algorithms.core.errors import InvalidInputError
 
-__all__ = ["BINARY_KEYS", "Lifted", "decode_arrays", "encode_arrays", "is_binary_array",
-           "lift_base64", "owned"]
+__all__ = ["BINARY_KEYS", "MAX_DEPTH", "Lifted", "decode_arrays", "encode_arrays",
+           "is_binary_array", "lift_base64", "owned", "too_deep"]
 
 #: The members of a typed binary array object, exactly.
 BINARY_KEYS = frozenset({"dtype", "shape", "data"})
 
 #: Most dimensions a binary array may declare.
 MAX_NDIM = 4
+
+#: Most levels of objects inside one input that the walks over an input look into (the
+#: service's setting ``max_input_depth`` passes its own): ``mesh.vertices`` is one level, a
+#: qualified value ``{"value": {"vertices": ...}}`` two. The walks recurse once per level.
+MAX_DEPTH = 32
 
 
 #: Shortest base64 string that :func:`lift_base64` cuts out of a body.
@@ -129,15 +134,33 @@ def is_binary_array(value: Any) -> bool:
     return isinstance(value, dict) and value.keys() == BINARY_KEYS
 
 
-def decode_arrays(value: Any, name: str, lifted: Lifted | None = None) -> Any:
-    """``value`` with every typed binary array object in it (at any depth of objects)
-    replaced by its numpy array; errors name the input path, such as ``mesh.vertices``.
-    ``lifted``: the base64 strings cut out of the body the value was parsed from."""
+def decode_arrays(value: Any, name: str, lifted: Lifted | None = None, *,
+                  max_depth: int = MAX_DEPTH) -> Any:
+    """``value`` with every typed binary array object in it (at any depth of objects, up to
+    ``max_depth`` levels) replaced by its numpy array; errors name the input path, such as
+    ``mesh.vertices``. ``lifted``: the base64 strings cut out of the body the value was
+    parsed from."""
     if is_binary_array(value):
         return _decode(value, name, lifted)
     if isinstance(value, dict):
-        return {k: decode_arrays(v, f"{name}.{k}", lifted) for k, v in value.items()}
+        if max_depth <= 0:
+            raise too_deep(name)
+        return {k: decode_arrays(v, f"{name}.{k}", lifted, max_depth=max_depth - 1)
+                for k, v in value.items()}
     return value
+
+
+def too_deep(name: str) -> InvalidInputError:
+    """The error for objects nested deeper than the limit inside an input; ``name`` is the
+    path to the object at the limit."""
+    head = name.split(".", 1)[0]
+    return InvalidInputError(
+        f"Expected `{head}` to hold objects nested only a few levels deep, got more levels "
+        f"than the limit, at `{_shortened(name)}`.", field=head)
+
+
+def _shortened(path: str, keep: int = 200) -> str:
+    return path if len(path) <= keep else f"{path[:keep // 2]}...{path[-keep // 2:]}"
 
 
 def _decode(obj: dict[str, Any], name: str, lifted: Lifted | None = None) -> np.ndarray:

@@ -50,6 +50,27 @@ class Settings(BaseSettings):
     max_points: int = Field(
         10_000_000, ge=1, description="Most points (rows) in one array input (422 above)."
     )
+    max_input_depth: int = Field(
+        32, ge=2, le=256, description="Most levels of objects nested inside one input "
+        "(`mesh.vertices` is one level), looked into for typed binary arrays and references "
+        "to earlier results (422 naming the input above). Any JSON document may nest at most "
+        "1024 levels of arrays and objects: a body or `spec` part nested deeper is a 400, a "
+        "JSON file part a 422 naming it."
+    )
+    max_file_nodes: int = Field(
+        10_000, ge=1, description="Most nodes in the scene of an uploaded GLB file (422 naming "
+        "the input above)."
+    )
+    max_file_depth: int = Field(
+        64, ge=1, description="Most levels of nested nodes in the scene of an uploaded GLB "
+        "file (422 naming the input above)."
+    )
+    decode_time_limit: float = Field(
+        30.0, gt=0, description="Longest time reading one uploaded file (GLB, PLY, OBJ, STL, "
+        "OFF, NPY) may take, in seconds (422 naming the input above). Files are read in "
+        "worker threads, never in the thread that answers requests."
+    )
+    decode_threads: int = Field(2, ge=1, description="Threads that read uploaded files.")
     max_queue: int = Field(
         10_000, ge=1, description="Most jobs accepted or running at once (429 above)."
     )
@@ -107,6 +128,15 @@ class Settings(BaseSettings):
         "used by the end-to-end tests.",
     )
     fsync: bool = Field(True, description="fsync the store and result files on every write.")
+    public_url: str | None = Field(
+        None,
+        pattern=r"^https?://[^/?#]+(/[^?#]*)?$",
+        description="The service's public root URL (https://example.org/morphserve), used in "
+        "every link and Location header and in the status documents sent to callbacks. "
+        "Unset: links are built from each request (its Host and any X-Forwarded-Proto, "
+        "X-Forwarded-Host and X-Forwarded-Prefix headers), and callbacks carry links "
+        "relative to the service's root.",
+    )
 
 
 @lru_cache

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import sqlite3
 import time
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
+from urllib.parse import urlencode
 
-from fastapi import APIRouter, Request
+import numpy as np
+from fastapi import APIRouter, Query, Request
 from pydantic import ValidationError
 from starlette.responses import Response
 
@@ -19,23 +22,31 @@ from service import jsonio
 from service.auth import owner_of
 from service.binary import LIFT_CHARS, Lifted, decode_arrays, lift_base64, owned
 from service.catalog import Process, processes
-from service.errors import ServiceError
-from service.geometry_io import decode_upload, parse_multipart, place_upload, resolve_refs
+from service.errors import ServiceError, input_errors, unknown_input_message
+from service.geometry_io import (
+    DecodeLimits,
+    decode_in_thread,
+    parse_multipart,
+    place_upload,
+    resolve_refs,
+)
 from service.jobs.spool import Spool
 from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobRequest
 from service.jsonio import JSONResponse
-from service.problems import pydantic_errors
-from service.representation import process_description, process_summary
+from service.representation import html_alternate, process_description, process_summary
 from service.routes import docs
 from service.routes.common import (
+    PageFormat,
     State,
     Wanted,
+    base_url,
     get_process,
     job_response,
     parse_prefer,
     read_body,
     state,
+    with_html,
 )
 
 router = APIRouter(tags=["processes"])
@@ -44,19 +55,41 @@ _BODY_MEMBERS = {"inputs", "outputs", "response", "subscriber", "mode", "timeLim
 
 
 @router.get("/processes", operation_id="getProcesses", summary="List the processes",
-            responses=docs.responses(docs.ProcessList))
-async def list_processes(request: Request) -> JSONResponse:
+            description="The processes, in the catalog's order, a page at a time: `limit` "
+            "processes from `offset` on, with `next` and `prev` links to the pages around.",
+            responses=with_html(docs.responses(docs.ProcessList, 422)))
+async def list_processes(
+    request: Request,
+    limit: Annotated[int, Query(ge=1, le=10_000, description="Processes per page; by "
+                                "default all of them (up to 1000).")] = 1000,
+    offset: Annotated[int, Query(ge=0, le=10**6, description="Processes to skip.")] = 0,
+    f: PageFormat = None,
+) -> JSONResponse:
     st = state(request)
-    items = [process_summary(p) for p in processes(test_processes=st.settings.test_processes)]
-    return JSONResponse({"processes": items, "links": [
-        {"href": "/processes", "rel": "self", "type": "application/json"}]})
+    base = base_url(request)
+    every = processes(test_processes=st.settings.test_processes)
+    items = [process_summary(p, base) for p in every[offset:offset + limit]]
+
+    def page(off: int) -> dict[str, str]:
+        return {"href": f"{base}/processes?" + urlencode({"limit": limit, "offset": off}),
+                "type": "application/json"}
+
+    links = [{**page(offset), "rel": "self"},
+             html_alternate(page(offset)["href"], "this list as a web page")]
+    if offset + limit < len(every):
+        links.append({**page(offset + limit), "rel": "next"})
+    if offset > 0:
+        links.append({**page(max(0, offset - limit)), "rel": "prev"})
+    return JSONResponse({"processes": items, "links": links, "numberMatched": len(every)})
 
 
 @router.get("/processes/{processId}", operation_id="getProcessDescription",
             summary="Describe a process: its inputs and outputs",
-            responses=docs.responses(docs.ProcessDescription, 404))
-async def describe_process(processId: str, request: Request) -> JSONResponse:  # noqa: N803
-    return JSONResponse(process_description(get_process(state(request), processId)))
+            responses=with_html(docs.responses(docs.ProcessDescription, 404)))
+async def describe_process(processId: str, request: Request,  # noqa: N803
+                           f: PageFormat = None) -> JSONResponse:
+    return JSONResponse(process_description(get_process(state(request), processId),
+                                            base_url(request)))
 
 
 def _invalid(field: str, message: str) -> ServiceError:
@@ -72,22 +105,28 @@ def _unwrap(value: Any) -> Any:
     return value
 
 
-def _json_body(raw: bytes | bytearray, what: str = "The body") -> Any:
+def _json_body(raw: bytes | bytearray, what: str = "The body", part: str | None = None
+               ) -> Any:
+    """The JSON document ``raw`` (a body, or the multipart ``part``); 400 naming it when it
+    is not JSON or is nested too deeply (:func:`service.jsonio.loads`)."""
     try:
         return jsonio.loads(raw) if raw and not raw.isspace() else {}  # strip() copies
     except (ValueError, UnicodeDecodeError) as exc:
-        raise ServiceError("malformed-body", f"{what} is not valid JSON: {exc}.") from None
+        errors = [{"input": part, "message": f"not valid JSON: {exc}"}] if part else None
+        raise ServiceError("malformed-body", f"{what} is not valid JSON: {exc}.",
+                           errors=errors) from None
 
 
-def _multipart_body(process: Process, raw: bytes | bytearray, content_type: str, st: State,
-                    identify: bool) -> tuple[Any, bytes]:
+async def _multipart_body(process: Process, raw: bytes | bytearray, content_type: str,
+                          st: State, identify: bool) -> tuple[Any, bytes]:
     """The execute request of a multipart body, its uploads decoded into its inputs, and,
     when ``identify`` (an Idempotency-Key came with it), the bytes that identify it (the
     spec and each part's name and digest: the boundary differs between retries); else
-    b"" (hashing a 48 MB body takes 35 ms)."""
+    b"" (hashing a 48 MB body takes 35 ms). Files are decoded in worker threads, bounded
+    in size and time (:func:`service.geometry_io.decode_in_thread`)."""
     spec_raw, uploads = parse_multipart(raw, content_type,
                                         max_input_bytes=st.settings.max_input_bytes)
-    body = _json_body(spec_raw or b"", "The part 'spec'")
+    body = _json_body(spec_raw or b"", "The part 'spec'", part="spec")
     identity = hashlib.sha256(spec_raw or b"")
     if not isinstance(body, dict) or not uploads:
         return body, identity.digest()  # _parse_execute names what is wrong with it
@@ -96,16 +135,21 @@ def _multipart_body(process: Process, raw: bytes | bytearray, content_type: str,
         raise _invalid("inputs", f"Expected an object of named inputs, got "
                        f"{type(inputs).__name__}.")
     fields = process.params.model_fields
+    settings = st.settings
+    limits = DecodeLimits(max_bytes=settings.max_input_bytes, max_points=settings.max_points,
+                          max_nodes=settings.max_file_nodes, max_depth=settings.max_file_depth)
     for name, upload in sorted(uploads.items()):
         head = name.split(".", 1)[0]
         if head not in fields:
-            raise _invalid(name, f"No such input of {process.id}; expected one of "
-                           f"{sorted(fields)} (or the part 'spec').")
+            raise _invalid(name, unknown_input_message(head, list(fields), process.hidden)
+                           + " (A part named `spec` holds the rest of the request.)")
         if name == head and head in inputs:
             raise _invalid(name, "Given both in the spec and as a part.")
         takes = _takes(process, head) if name == head else "points"  # a member: an array
-        value = decode_upload(upload, takes=takes, max_glb_bytes=st.settings.max_input_bytes)
-        place_upload(inputs, name, value)
+        value = await decode_in_thread(upload, takes=takes, limits=limits,
+                                       time_limit=settings.decode_time_limit,
+                                       threads=settings.decode_threads)
+        place_upload(inputs, name, value, max_depth=settings.max_input_depth)
         if identify:
             identity.update(name.encode() + b"\0" + hashlib.sha256(upload.data).digest())
     return body, identity.digest() if identify else b""
@@ -180,8 +224,8 @@ class ExecuteSpec:
     """The inputs, validated, as the method's keyword arguments (arrays may be views of
     the request body)."""
     input_bytes: int
-    """The inputs' size, roughly: their arrays' bytes, 64 for any other value (what the
-    fast path's ``fast_path_bytes`` is compared with)."""
+    """The inputs' size, roughly (:func:`input_size`): what the fast path's
+    ``fast_path_bytes`` is compared with."""
     time_limit: float
     """Seconds the job may run: the least of the family's (else the service's) limit, the
     process's and the request's ``timeLimit``."""
@@ -190,6 +234,21 @@ class ExecuteSpec:
     mode: Literal["sync", "async"] | None
     """The body's ``mode`` (OGC API – Processes 1.0), which a ``Prefer`` header overrides;
     None when absent or neither of these."""
+
+
+def input_size(value: Any, levels: int = 2) -> int:
+    """The size of one validated input, in bytes, roughly: an array's bytes; for a mesh,
+    graph or handles (a dataclass), or a list of arrays (point sets), the bytes of the arrays
+    in it (a graph of 2M nodes is its edges' 32 MB, not one small value); 64 for anything
+    else and for every member. Looks ``levels`` levels deep, no deeper."""
+    if isinstance(value, np.ndarray):
+        return int(value.nbytes)
+    if levels > 0 and dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return 64 + sum(input_size(getattr(value, f.name), levels - 1)
+                        for f in dataclasses.fields(value))
+    if levels > 0 and isinstance(value, (list, tuple)):
+        return 64 + sum(input_size(v, levels - 1) for v in value)
+    return 64
 
 
 def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
@@ -208,14 +267,17 @@ def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
     if "spec" in inputs:
         raise _invalid("spec", "'spec' names the JSON part of a multipart request, not an "
                        "input.")
+    depth = st.settings.max_input_depth
     if fetch is not None:  # inputs by reference to earlier results
-        inputs = {k: resolve_refs(_unwrap(v), k, fetch, origin) for k, v in inputs.items()}
+        inputs = {k: resolve_refs(_unwrap(v), k, fetch, origin, max_depth=depth)
+                  for k, v in inputs.items()}
     try:  # typed binary arrays are decoded first: their errors name the input path
         params = process.params.model_validate(
-            {k: decode_arrays(_unwrap(v), k, lifted) for k, v in inputs.items()},
+            {k: decode_arrays(_unwrap(v), k, lifted, max_depth=depth)
+             for k, v in inputs.items()},
             context={"max_points": st.settings.max_points})
     except ValidationError as exc:
-        errors = pydantic_errors(exc.errors())
+        errors = input_errors(exc.errors(), list(process.params.model_fields), process.hidden)
         detail = "; ".join(f"{e['input']}: {e['message']}" for e in errors)
         raise ServiceError("invalid-input", detail, errors=errors) from None
 
@@ -248,7 +310,7 @@ def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
     kwargs = process.kwargs(params)
     mode = body.get("mode")
     return ExecuteSpec(
-        inputs=kwargs, input_bytes=sum(getattr(v, "nbytes", 64) for v in kwargs.values()),
+        inputs=kwargs, input_bytes=sum(input_size(v) for v in kwargs.values()),
         time_limit=time_limit,
         request=JobRequest(outputs=outputs, response=response, subscriber=subscriber),
         mode=mode if mode == "sync" or mode == "async" else None)
@@ -265,8 +327,9 @@ def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
         "schema": docs.ExecuteRequest.model_json_schema(
             ref_template="#/components/schemas/{model}")}}}},
     responses={**docs.responses(None, 400, 404, 413, 415, 422, 429),
-               200: {"description": "The results document (synchronous execution).",
-                     "content": {"application/json": {"schema": {"type": "object"}}}},
+               200: {"description": "The results document (synchronous execution): "
+                     "output name -> value; with response raw and one output, its value "
+                     "alone.", "content": {"application/json": {"schema": {}}}},
                201: {"description": "The job was accepted; its statusInfo.",
                      "content": {"application/json": {"schema": {
                          "$ref": "#/components/schemas/StatusInfo"}}}}},
@@ -298,7 +361,8 @@ async def _execute(st: State, process: Process, request: Request, header: str,
     lifted = None
     identity: bytes | bytearray  # what identifies the request for an Idempotency-Key
     if multipart:
-        body, identity = _multipart_body(process, raw, header, st, identify=bool(key))
+        body, identity = await _multipart_body(process, raw, header, st,
+                                               identify=bool(key))
     else:
         body, lifted = _lifted_json_body(raw)
         identity = raw

@@ -409,7 +409,7 @@ def test_aligned_source_lands_on_the_target_in_the_glb(http) -> None:  # noqa: A
     assert r.status_code == 200 and r.headers["content-type"] == "model/gltf-binary"
     doc = read_glb(r.content)
     names = [m["name"] for m in doc["json"]["meshes"]]
-    assert names == ["source (moved)", "target"]
+    assert names == ["source (moved)", "target", "source"]
     moved = doc["accessors"][doc["json"]["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
     target = doc["accessors"][doc["json"]["meshes"][1]["primitives"][0]["attributes"]["POSITION"]]
     np.testing.assert_allclose(moved, dst, atol=1e-5)  # float32 positions

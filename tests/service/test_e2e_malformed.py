@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import io
 import json
+import struct
 from typing import Any
 
 import numpy as np
@@ -67,6 +68,55 @@ def _huge_glb() -> bytes:
     """A valid little GLB whose JSON then claims a 1 TiB buffer."""
     glb = mesh_glb(np.array(STRIP["vertices"], float), np.array(STRIP["faces"]))
     return glb_with(glb, lambda doc: doc["buffers"][0].update(byteLength=2 ** 40))
+
+
+# -- nesting and hostile files (issue 17) ------------------------------------------------
+
+def _deep(depth: int, kind: str = "array", inner: bytes = b"1") -> bytes:
+    """``depth`` levels of arrays or of objects ``{"a": ...}`` around ``inner``."""
+    if kind == "array":
+        return b"[" * depth + inner + b"]" * depth
+    return b'{"a":' * depth + inner + b"}" * depth
+
+
+def _body(inputs: bytes) -> bytes:
+    return b'{"inputs": ' + inputs + b"}"
+
+
+def _glb(doc: dict[str, Any], binary: bytes) -> bytes:
+    """A GLB packed by hand: header, JSON chunk, binary chunk."""
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    binary += b"\0" * (-len(binary) % 4)
+    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + \
+        struct.pack("<II", len(binary), 0x004E4942) + binary
+    return struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks
+
+
+def _scene_glb(nodes: list[dict[str, Any]], roots: list[int], n_vertices: int = 3) -> bytes:
+    """A mesh of ``n_vertices`` vertices (a fan of triangles) placed by ``nodes``."""
+    v = np.zeros((n_vertices, 3), np.float32)
+    v[:, 0] = np.arange(n_vertices)
+    v[1::2, 1] = 1
+    f = np.array([[0, i, i + 1] for i in range(1, n_vertices - 1)], np.uint32)
+    doc = {"asset": {"version": "2.0"}, "buffers": [{"byteLength": v.nbytes + f.nbytes}],
+           "bufferViews": [{"buffer": 0, "byteLength": v.nbytes},
+                           {"buffer": 0, "byteOffset": v.nbytes, "byteLength": f.nbytes}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": n_vertices,
+                          "type": "VEC3", "min": v.min(0).tolist(), "max": v.max(0).tolist()},
+                         {"bufferView": 1, "componentType": 5125, "count": f.size,
+                          "type": "SCALAR"}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+           "nodes": nodes, "scenes": [{"nodes": roots}], "scene": 0}
+    return _glb(doc, v.tobytes() + f.tobytes())
+
+
+def _spec_part(spec: bytes, parts: dict[str, tuple[str, bytes]]) -> tuple[bytes, dict[str, str]]:
+    return _multipart({"spec": ("spec.json", spec), **parts})
+
+
+_PLY_LIES = (b"ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\n"
+             b"property float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n")
 
 
 CATALOGUE: list[tuple[str, str, Any, dict[str, str], int, str]] = [
@@ -258,6 +308,51 @@ CATALOGUE: list[tuple[str, str, Any, dict[str, str], int, str]] = [
                            b"0 0 0\n1 0 0\n0 1 0\n")}), 422, "mesh"),
     ("multipart without boundary", "alignment.rigid", b"--x--",
      {"Content-Type": "multipart/form-data"}, 400, ""),
+    # -- nesting (issue 17): deeper than the JSON parser's 1024 levels, or than the walks
+    # over an input go (max_input_depth, 32) ---------------------------------------------
+    ("body nested 1500 arrays deep", "alignment.rigid", _body(b'{"source": ' + _deep(1500)
+                                                              + b"}"), {}, 400, ""),
+    ("body nested 10000 objects deep", "alignment.rigid", _deep(10_000, "object"), {}, 400, ""),
+    ("NaN before 10000 levels", "alignment.rigid", _body(b'{"source": [NaN, ' + _deep(10_000)
+                                                         + b"]}"), {}, 400, ""),
+    ("input nested 1000 objects deep", "alignment.rigid", _body(
+        b'{"target": [[0,0],[1,0],[0,1]], "source": ' + _deep(1000, "object") + b"}"), {},
+     422, "source"),
+    ("href inside 900 objects", "parameterization.tutte", _body(b'{"mesh": ' + _deep(
+        900, "object", b'{"href": "/jobs/x/results/mesh"}') + b"}"), {}, 422, "mesh"),
+    ("spec nested 1500 arrays deep", "alignment.rigid",
+     *_spec_part(_deep(1500), {"source": ("a.npy", _NPY)}), 400, "spec"),
+    ("spec nested 10000 objects deep", "alignment.rigid",
+     *_spec_part(_deep(10_000, "object"), {"source": ("a.npy", _NPY)}), 400, "spec"),
+    ("JSON part nested 10000 deep", "alignment.rigid",
+     *_multipart({"source": ("a.json", _deep(10_000))}), 422, "source"),
+    ("JSON part nested 1000 objects deep", "alignment.rigid",
+     *_multipart({"source": ("a.json", _deep(1000, "object"))}), 422, "source"),
+    ("part name nested 1000 members deep", "deformation.arap",
+     *_multipart({"mesh" + ".a" * 1000: ("a.npy", _NPY)}), 422, "mesh"),
+    # -- hostile geometry files (issue 17) --------------------------------------------------
+    ("GLB scene with a cycle", "parameterization.tutte", *_multipart({"mesh": (
+        "cycle.glb", _scene_glb([{"mesh": 0, "children": [1]}, {"children": [0]}], [0]))}),
+     422, "mesh"),
+    ("GLB chain of 100 nested nodes", "parameterization.tutte", *_multipart({"mesh": (
+        "chain.glb", _scene_glb([{"children": [i + 1]} for i in range(99)] + [{"mesh": 0}],
+                                [0]))}), 422, "mesh"),
+    ("GLB of 10001 nodes", "parameterization.tutte", *_multipart({"mesh": (
+        "nodes.glb", _scene_glb([{"mesh": 0}] * 10_001, [0]))}), 422, "mesh"),
+    ("GLB instancing to 10M vertices", "parameterization.tutte", *_multipart({"mesh": (
+        "instanced.glb", _scene_glb([{"mesh": 0}], [0] * 10_001, n_vertices=1000))}),
+     422, "mesh"),
+    ("GLB accessor out of range", "parameterization.tutte", *_multipart({"mesh": (
+        "acc.glb", _scene_glb([{"mesh": 7}], [0]))}), 422, "mesh"),
+    ("truncated GLB", "parameterization.tutte", *_multipart({"mesh": (
+        "cut.glb", _scene_glb([{"mesh": 0}], [0])[:-10])}), 422, "mesh"),
+    ("PLY header lies about its count", "alignment.rigid",
+     *_multipart({"source": ("lies.ply", _PLY_LIES)}), 422, "source"),
+    ("OBJ face index out of range", "parameterization.tutte", *_multipart({"mesh": (
+        "oob.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")}), 422, "mesh"),
+    ("OBJ with a NaN vertex", "parameterization.tutte", *_multipart({"mesh": (
+        "nan.obj", b"v 0 0 0\nv nan 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n")}),
+     422, "mesh"),
     # -- results by reference ------------------------------------------------------------------
     ("href to another host", "parameterization.tutte", {"mesh": {
         "href": "http://example.com/jobs/x/results/mesh"}}, {}, 422, "mesh"),
@@ -284,8 +379,9 @@ def _ids(row: tuple) -> str:
 
 
 @pytest.mark.parametrize("row", CATALOGUE, ids=[_ids(r) for r in CATALOGUE])
-def test_malformed_request_is_a_4xx_problem_naming_the_field(http, row) -> None:
+def test_malformed_request_is_a_4xx_problem_naming_the_field(http, server, row) -> None:
     label, process, body, headers, status, field = row
+    logged = server.log.stat().st_size
     if isinstance(body, dict):
         raw = json.dumps({"inputs": body}).encode()
     else:
@@ -300,6 +396,10 @@ def test_malformed_request_is_a_4xx_problem_naming_the_field(http, row) -> None:
     if field:
         names = [e.get("input", "") for e in problem.get("errors", [])]
         assert names and names[0].startswith(field), (label, names, problem)
+    assert http.get("/healthz").status_code == 200
+    with open(server.log, "rb") as log:  # a client's error is no traceback in the log
+        log.seek(logged)
+        assert b"Traceback" not in log.read(), (label, server.tail())
 
 
 def test_the_catalogue_covers_every_family_and_has_forty_rows() -> None:
