@@ -11,7 +11,7 @@ export MORPHSERVE_DATA_DIR
 PYTEST_ARGS ?=
 GLTF_VALIDATOR := tools/gltf-validator
 
-.PHONY: serve test lint openapi bench clean
+.PHONY: serve test lint openapi sdk bench licences clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -47,8 +47,19 @@ test: lint
 openapi: $(VENV)/.installed
 	$(BIN)/python -m service.openapi openapi/openapi.json
 
+# The SDK's typed calls (client.registration.icp(...)), generated from the catalog
+sdk: $(VENV)/.installed
+	$(BIN)/python -m service.sdkgen morphserve/_typed.py
+
 bench: $(VENV)/.installed-test
 	$(BIN)/python bench/service_overhead.py
+
+# The licence of every distribution the default install brings (tests/test_licences.py
+# checks the same list: no GPL, AGPL or LGPL outside an optional extra); the file is a test
+# module, so it needs pytest, which the default install does not bring
+licences: $(VENV)/.installed
+	@$(BIN)/python -c "import pytest" 2>/dev/null || $(BIN)/python -m pip install -q 'pytest>=8'
+	$(BIN)/python tests/test_licences.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache $(GLTF_VALIDATOR)/node_modules

@@ -18,11 +18,12 @@ from service import metrics
 from service.auth import OPEN_PATHS, AuthMiddleware, KeyRing
 from service.callbacks import Notifier
 from service.errors import install_handlers
+from service.html import HtmlMiddleware
 from service.jobs.engine import Engine
 from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobStore
 from service.representation import results_document, status_info
-from service.routes import jobs, landing, processes
+from service.routes import apidocs, jobs, landing, processes, ui
 from service.routes.common import State
 from service.settings import Settings, get_settings
 
@@ -35,7 +36,11 @@ def _operation_id(route: APIRoute) -> str:
     return route.operation_id or route.name
 
 
-def _wire_callbacks(engine: Engine, store: JobStore, notifier: Notifier) -> None:
+def _wire_callbacks(engine: Engine, store: JobStore, notifier: Notifier,
+                    base: str = "") -> None:
+    """Send each job's subscriber its callbacks. A callback answers no request, so its
+    statusInfo links start with ``base``, the configured public URL (``public_url``); when
+    none is configured they are relative to the service's root (``/jobs/{id}``)."""
     def on_finish(job: JobRecord, outcome: Outcome) -> None:
         sub = job.request.subscriber
         if sub is None:
@@ -46,12 +51,12 @@ def _wire_callbacks(engine: Engine, store: JobStore, notifier: Notifier) -> None
                 notifier.send(sub.success_uri,
                               results_document(outcome.outputs or {}, job.request))
         elif sub.failed_uri is not None:
-            notifier.send(sub.failed_uri, status_info(current))
+            notifier.send(sub.failed_uri, status_info(current, base))
 
     def on_start(job: JobRecord) -> None:
         sub = job.request.subscriber
         if sub is not None and sub.in_progress_uri is not None:
-            notifier.send(sub.in_progress_uri, status_info(store.get(job.id) or job))
+            notifier.send(sub.in_progress_uri, status_info(store.get(job.id) or job, base))
 
     engine.on_finish.append(on_finish)
     engine.on_start.append(on_start)
@@ -68,7 +73,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                          inline_input_bytes=settings.inline_input_bytes)
         engine = Engine(settings, store)
         notifier = Notifier()
-        _wire_callbacks(engine, store, notifier)
+        _wire_callbacks(engine, store, notifier, (settings.public_url or "").rstrip("/"))
         app.state.morphserve = State(settings=settings, store=store, engine=engine,
                                      keyring=keyring)
         metrics.wire(engine, app.state.morphserve.metrics)
@@ -92,24 +97,34 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         "one OGC process.",
         lifespan=lifespan,
         generate_unique_id_function=_operation_id,
+        docs_url=None,  # FastAPI's pages load their assets from a CDN: service.routes.apidocs
+        redoc_url=None,
     )
     install_handlers(app)
     app.add_middleware(AuthMiddleware, keyring=keyring)
+    app.add_middleware(HtmlMiddleware)  # outside auth: renders its 401 too
     app.include_router(landing.router)
+    app.include_router(apidocs.router)
     app.include_router(processes.router)
     app.include_router(jobs.router)
+    app.include_router(ui.router)
     app.openapi = lambda: _openapi(app)  # type: ignore[method-assign]
     return app
 
 
 def _openapi(app: FastAPI) -> dict[str, Any]:
-    """FastAPI's document, with every error response as the problem+json it really is
-    (FastAPI files error models under application/json and adds its own 422 model)."""
+    """FastAPI's document, with one execute operation per process
+    (:func:`service.openapi.add_process_operations`) and every error response as the
+    problem+json it really is (FastAPI files error models under application/json and adds
+    its own 422 model)."""
     if app.openapi_schema is None:
         from fastapi.openapi.utils import get_openapi
 
         doc = get_openapi(title=app.title, version=app.version, summary=app.summary,
                           description=app.description, routes=app.routes)
+        from service.openapi import add_process_operations
+
+        add_process_operations(doc)
         problem = {"application/problem+json": {"schema": {
             "$ref": "#/components/schemas/Problem"}}}
         for route, path in doc["paths"].items():
@@ -118,9 +133,13 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
                     op["responses"].setdefault("401", {
                         "description": "No valid API key (when the service has keys)."})
                     op["security"] = [{}, {"bearerAuth": []}]
+                # an operation with an HTML page (service.html) answers its errors as
+                # pages too, to a browser
+                html = op.get("responses", {}).get("200", {}).get("content", {}).get(
+                    "text/html")
                 for code, resp in op.get("responses", {}).items():
                     if code[0] in "45":
-                        resp["content"] = problem
+                        resp["content"] = {**problem, "text/html": html} if html else problem
         doc.setdefault("components", {})["securitySchemes"] = {"bearerAuth": {
             "type": "http", "scheme": "bearer",
             "description": "An API key from the service's keys file; needed when the service "
