@@ -15,7 +15,7 @@ from fastapi import FastAPI
 from fastapi.routing import APIRoute
 
 from service import metrics
-from service.auth import OPEN_PATHS, AuthMiddleware, KeyRing
+from service.auth import AuthMiddleware, KeyRing, is_open
 from service.callbacks import Notifier
 from service.errors import install_handlers
 from service.html import HtmlMiddleware
@@ -129,7 +129,7 @@ def _openapi(app: FastAPI) -> dict[str, Any]:
             "$ref": "#/components/schemas/Problem"}}}
         for route, path in doc["paths"].items():
             for op in path.values():
-                if route not in OPEN_PATHS:  # see service.auth: a key when keys are on
+                if not is_open(route):  # see service.auth: a key when keys are on
                     op["responses"].setdefault("401", {
                         "description": "No valid API key (when the service has keys)."})
                     op["security"] = [{}, {"bearerAuth": []}]

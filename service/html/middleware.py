@@ -149,7 +149,7 @@ class HtmlMiddleware:
         f = formats[-1].strip().lower() if formats else None
         accept = _header(scope, b"accept")
         if f is not None and f not in _FORMATS:
-            await self._bad_format(scope, send, formats[-1], wants_html(accept))
+            await self._bad_format(scope, receive, send, formats[-1], wants_html(accept))
             return
         if not wants_html(accept, f):
             async def send_vary(message: Message) -> None:
@@ -225,8 +225,10 @@ class HtmlMiddleware:
         await send({"type": "http.response.body",
                     "body": b"" if scope["method"] == "HEAD" else data})
 
-    async def _bad_format(self, scope: Scope, send: Send, value: str, html: bool) -> None:
+    async def _bad_format(self, scope: Scope, receive: Receive, send: Send, value: str,
+                          html: bool) -> None:
         """422 for ``?f=`` other than json or html, as the service's other inputs get."""
+        from service.errors import problem_response
         from service.problems import problem_body
 
         message = f"Expected 'json' or 'html', got {value!r}."
@@ -236,9 +238,4 @@ class HtmlMiddleware:
             ctx = pages.Context(path=scope["path"], query=[], root=scope.get("root_path", ""))
             await self._send_html(scope, send, 422, pages.error_page(422, problem, ctx), [])
             return
-        data = json.dumps(problem).encode()
-        await send({"type": "http.response.start", "status": 422, "headers": [
-            (b"content-type", b"application/problem+json"),
-            (b"content-length", str(len(data)).encode()), (b"vary", b"Accept")]})
-        await send({"type": "http.response.body",
-                    "body": b"" if scope["method"] == "HEAD" else data})
+        await problem_response(problem, {"Vary": "Accept"})(scope, receive, send)
