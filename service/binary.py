@@ -38,9 +38,10 @@ BINARY_KEYS = frozenset({"dtype", "shape", "data"})
 #: Most dimensions a binary array may declare.
 MAX_NDIM = 4
 
-#: Most levels of objects inside one input that the walks over an input look into (the
-#: service's setting ``max_input_depth`` passes its own): ``mesh.vertices`` is one level, a
-#: qualified value ``{"value": {"vertices": ...}}`` two. The walks recurse once per level.
+#: Most levels of objects inside one input that the walks over an input look into by default
+#: (and the default of the service's setting ``max_input_depth``, which it passes):
+#: ``mesh.vertices`` is one level, a qualified value ``{"value": {"vertices": ...}}`` two.
+#: The walks recurse once per level.
 MAX_DEPTH = 32
 
 

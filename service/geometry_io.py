@@ -240,8 +240,8 @@ class DecodeLimits:
 
     max_bytes: int
     max_points: int
-    max_nodes: int = 10_000
-    max_depth: int = 64
+    max_nodes: int
+    max_depth: int
 
 
 #: For tests: when set, called with the part in the thread that decodes it, before it is

@@ -13,6 +13,8 @@ from typing import Annotated
 from pydantic import Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
+from service.binary import MAX_DEPTH
+
 __all__ = ["Settings", "get_settings"]
 
 
@@ -51,7 +53,7 @@ class Settings(BaseSettings):
         10_000_000, ge=1, description="Most points (rows) in one array input (422 above)."
     )
     max_input_depth: int = Field(
-        32, ge=2, le=256, description="Most levels of objects nested inside one input "
+        MAX_DEPTH, ge=2, le=256, description="Most levels of objects nested inside one input "
         "(`mesh.vertices` is one level), looked into for typed binary arrays and references "
         "to earlier results (422 naming the input above). Any JSON document may nest at most "
         "1024 levels of arrays and objects: a body or `spec` part nested deeper is a 400, a "
