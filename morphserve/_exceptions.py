@@ -28,12 +28,16 @@ callers catch exactly what they mean::
           ├── JobDismissed         410 job-dismissed
           ├── PayloadTooLarge      413 payload-too-large
           ├── UnsupportedMediaType 415 unsupported-media-type
-          ├── QueueFull            429 queue-full  (retry_after, from the Retry-After header)
+          ├── QueueFull            429 queue-full
           ├── JobFailed            job-failed: the job ran and raised
           │    ├── TimeLimitExceeded  time-limit-exceeded: the job ran out of time
           │    └── WorkerLost      worker-lost: its worker died more often than allowed
           ├── InternalError        500 internal-error
-          └── ServiceUnavailable   503 service-unavailable
+          ├── ServiceUnavailable   503 service-unavailable
+          └── InsufficientStorage  507 insufficient-storage  (free_bytes)
+
+Every :class:`APIError` has ``retry_after``: the seconds the ``Retry-After`` header asks to
+wait (429, 503 and 507 answers carry one), None when it is absent.
 
 A problem whose slug this SDK does not know is raised as the class that owns its HTTP status
 when exactly one does (any 404 is a :class:`NotFound`, any 429 a :class:`QueueFull`), else as a
@@ -53,6 +57,7 @@ import httpx
 __all__ = [
     "APIError",
     "IdempotencyConflict",
+    "InsufficientStorage",
     "InternalError",
     "InvalidInput",
     "JobDismissed",
@@ -191,6 +196,13 @@ class APIError(MorphserveError):
             text += f"\n  {error.get('input', '?')}: {error.get('message', '')}"
         return text
 
+    @property
+    def retry_after(self) -> float | None:
+        """Seconds to wait before retrying, from the ``Retry-After`` header (None: not said)."""
+        if self.response is None:
+            return None
+        return _retry_after(self.response.headers.get("Retry-After"))
+
     def __reduce__(self) -> tuple[Any, ...]:
         # Picklable (Dask, multiprocessing); the response does not travel.
         args = (self.status, self.type, self.title, self.detail)
@@ -300,13 +312,6 @@ class QueueFull(APIError):
     slug = "queue-full"
     http_status = 429
 
-    @property
-    def retry_after(self) -> float | None:
-        """Seconds to wait before retrying, from the ``Retry-After`` header."""
-        if self.response is None:
-            return None
-        return _retry_after(self.response.headers.get("Retry-After"))
-
 
 class JobFailed(APIError):
     """The job ran and failed; ``detail`` says why."""
@@ -338,6 +343,23 @@ class ServiceUnavailable(APIError):
 
     slug = "service-unavailable"
     http_status = 503
+
+
+class InsufficientStorage(APIError):
+    """The service's data dir is full: it refuses new jobs (reads and finished jobs still
+    work) until its operator frees space; ``free_bytes`` is what was left."""
+
+    slug = "insufficient-storage"
+    http_status = 507
+
+    @property
+    def free_bytes(self) -> int | None:
+        """Bytes free in the data dir when the job was refused (None: not said)."""
+        try:
+            value = self.response.json().get("free_bytes") if self.response else None
+        except (ValueError, AttributeError):
+            return None
+        return value if isinstance(value, int) else None
 
 
 def _retry_after(value: str | None) -> float | None:

@@ -9,6 +9,7 @@ raised                          answered
 ``ServiceError``                its own type and status
 ``algorithms`` InvalidInputError  422 ``invalid-input`` naming the input (``field``)
 ``RequestValidationError``      422 ``invalid-input`` (query/path parameters)
+store's ``StorageFull``         507 ``insufficient-storage``, with ``free_bytes``
 Starlette ``HTTPException``     404 ``not-found``, 405 ``method-not-allowed``, ...
 anything else                   500 ``internal-error`` (a bug; logged with its traceback)
 ==============================  ===========================================================
@@ -31,6 +32,7 @@ from fastapi.responses import HTMLResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from algorithms.core.errors import GeometryError
+from service.jobs.store import StorageFull
 from service.jsonio import JSONResponse
 from service.problems import (
     PROBLEMS,
@@ -69,6 +71,7 @@ class ServiceError(Exception):
         errors: list[dict[str, str]] | None = None,
         status: int | None = None,
         headers: dict[str, str] | None = None,
+        members: dict[str, Any] | None = None,
     ) -> None:
         super().__init__(detail)
         self.problem = PROBLEMS[slug]
@@ -76,6 +79,8 @@ class ServiceError(Exception):
         self.errors = errors
         self.status = status or self.problem.status
         self.headers = headers or {}
+        self.members = members or {}
+        """Extension members of the problem document (RFC 9457 §3.2)."""
 
 
 def closest(name: str, choices: Iterable[str], n: int = 1) -> list[str]:
@@ -137,7 +142,14 @@ def install_handlers(app: FastAPI) -> None:
     async def _service(request: Request, exc: ServiceError) -> JSONResponse:
         body = problem_body(exc.problem.slug, exc.detail, instance=str(request.url.path),
                             errors=exc.errors, status=exc.status)
-        return problem_response(body, exc.headers)
+        return problem_response({**exc.members, **body}, exc.headers)
+
+    @app.exception_handler(StorageFull)
+    async def _full(request: Request, exc: StorageFull) -> JSONResponse:
+        log.warning("%s %s: %s", request.method, request.url.path, exc.strerror)
+        body = problem_body("insufficient-storage", exc.strerror or "The data dir is full.",
+                            instance=str(request.url.path))
+        return problem_response({**body, "free_bytes": exc.free_bytes}, {"Retry-After": "30"})
 
     @app.exception_handler(GeometryError)
     async def _geometry(request: Request, exc: GeometryError) -> JSONResponse:

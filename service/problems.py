@@ -77,9 +77,14 @@ PROBLEMS: dict[str, ProblemType] = {
         ProblemType("queue-full", 429, "Queue full",
                     "Too many jobs are waiting. Retry after the number of seconds in "
                     "Retry-After."),
+        ProblemType("insufficient-storage", 507, "Insufficient storage",
+                    "The service's data dir is full: it stores no new job (nor, while no "
+                    "room is left, any change) until space is freed. Reading jobs and "
+                    "results still works; `free_bytes` says how much room is left."),
         ProblemType("unauthorized", 401, "Unauthorized", "A valid API key is required."),
         ProblemType("service-unavailable", 503, "Service unavailable",
-                    "The service is starting or has no workers."),
+                    "The service is starting, has no workers, or its data dir is full "
+                    "(`/readyz` says which)."),
         ProblemType("internal-error", 500, "Internal error",
                     "An unexpected error. This is a bug: please report it with the instance id."),
     ]

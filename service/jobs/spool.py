@@ -18,8 +18,8 @@ buffers (``[offset, length]``, or ``[offset, length, start, size]`` for bytes
 ``[start, start + size)`` of the base64 text at ``offset``) and a fixed footer;
 :func:`load_inputs` reads both this layout and a plain pickle. A body of which less than
 half would be kept so is not kept at all. Nothing of a body that fails validation stays
-behind (:meth:`Spool.discard`), and the store removes spool files a crash left
-(:func:`remove_stale`).
+behind (:meth:`Spool.discard`), and the store removes at start-up every spool file a crash
+left (:func:`remove_stale`).
 """
 
 from __future__ import annotations
@@ -236,14 +236,16 @@ def load_inputs(path: Path | str) -> Any:
     return pickle.loads(stream, buffers=buffers)
 
 
-def remove_stale(directory: Path, older_than: float = 3600.0) -> int:
-    """Remove spool files a crash left in ``directory`` (untouched for ``older_than``
-    seconds: a body still arriving is written to every few milliseconds)."""
+def remove_stale(directory: Path, older_than: float = 0.0) -> int:
+    """Remove the temporary files a crash left in ``directory`` (spooled bodies, inputs or
+    results files cut off while being written: ``.*.tmp``) untouched for at least
+    ``older_than`` seconds; 0: all of them, as at start-up, when no request of the service
+    can be writing one. Returns how many were removed."""
     removed = 0
     now = time.time()
-    for path in Path(directory).glob(f"{_PREFIX}*.tmp"):
+    for path in Path(directory).glob(".*.tmp"):
         try:
-            if now - path.stat().st_mtime > older_than:
+            if older_than <= 0 or now - path.stat().st_mtime >= older_than:
                 path.unlink()
                 removed += 1
         except FileNotFoundError:

@@ -18,6 +18,24 @@ thread takes every write waiting when it is free and runs them in one transactio
 its own savepoint (one failing leaves the others), so that a burst of jobs costs one fsync
 instead of one each; each caller hears back only after the commit that made its write
 durable. Pickle is only ever read back from files this service wrote itself.
+
+A full disk (PostgreSQL's behaviour is the model: writes are refused, reads go on):
+
+* a write that finds no room (``ENOSPC``, SQLite's ``SQLITE_FULL``) raises
+  :class:`StorageFull`, answered ``507``; the transaction is rolled back and the inputs
+  file it wrote removed;
+* new jobs are refused while the data dir has less free space than
+  :attr:`JobStore.reserve_bytes`, kept for the outcomes and deletions of the jobs already
+  accepted;
+* the outcome of a job that ends while its write finds no room is *held* in memory: the job
+  reads as ended (its results too), and the writer thread writes the outcome as soon as
+  there is room again (every :data:`HOLD_RETRY` seconds). A crash before that runs the job
+  again at start-up, as for any job whose end was not recorded. Progress reports that find
+  no room are dropped (the next report says it again).
+
+The data dir belongs to one service at a time (an exclusive lock on ``jobs.lock``): at
+start-up no request can be receiving a body, so every spool file left in ``inputs/`` is a
+crash's leftover and is removed.
 """
 
 from __future__ import annotations
@@ -25,8 +43,12 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import dataclasses
+import errno
+import fcntl
 import functools
+import inspect
 import json
+import logging
 import os
 import pickle
 import queue
@@ -45,12 +67,25 @@ from service.jobs.spool import Spool, load_inputs, remove_stale
 from service.jobs.status import ACTIVE, FINISHED, JobStatus, Outcome
 
 __all__ = ["JobRecord", "JobRequest", "Subscriber", "JobStore", "JobStatus", "ACTIVE",
-           "FINISHED", "write_atomic", "result_path"]
+           "FINISHED", "write_atomic", "result_path", "StorageFull", "Space", "RESERVE_BYTES",
+           "HOLD_RETRY"]
 
 T = TypeVar("T")
 
+log = logging.getLogger("morphserve.store")
+
 #: Most writes group-committed in one transaction.
 MAX_BATCH = 256
+#: Free space kept in the data dir for the jobs already accepted: at most this, and at most
+#: :data:`RESERVE_SHARE` of the filesystem (a small volume is not reserved whole).
+RESERVE_BYTES = 64 * 2**20
+RESERVE_SHARE = 0.05
+#: Seconds between two attempts to write the outcomes held while the disk was full.
+HOLD_RETRY = 1.0
+#: What a write through :meth:`JobStore.write` does when it finds no room: ``hold`` (a job's
+#: outcome, kept in memory until it can be written), ``drop`` (start and progress reports);
+#: any other write raises :class:`StorageFull`.
+_WHEN_FULL = {"finish": "hold", "mark_running": "drop", "set_progress": "drop"}
 
 #: SQL: the row's job is accepted or running.
 _IS_ACTIVE = "status IN (" + ", ".join(f"'{s}'" for s in ACTIVE) + ")"
@@ -195,6 +230,70 @@ class JobRecord:
         return self.status in ACTIVE
 
 
+class StorageFull(OSError):
+    """The data dir has no room for a write, or less free space than the store keeps for
+    the jobs it has accepted (:attr:`JobStore.reserve_bytes`); an ``OSError`` with
+    ``errno.ENOSPC``. Answered ``507 insufficient-storage``."""
+
+    def __init__(self, free_bytes: int, reserve_bytes: int, needed: int = 0) -> None:
+        more = f", and this request needs about {needed} more" if needed else ""
+        super().__init__(errno.ENOSPC, (
+            f"The data dir is full: {free_bytes} bytes free, {reserve_bytes} kept for the jobs "
+            f"already accepted{more}. Nothing new is stored until space is freed; reading "
+            "jobs and results still works."))
+        self.free_bytes = free_bytes
+        self.reserve_bytes = reserve_bytes
+
+
+def _is_full(exc: BaseException) -> bool:
+    """``exc`` says the filesystem had no room (or the user's quota was used up)."""
+    if isinstance(exc, OSError):
+        return exc.errno in (errno.ENOSPC, errno.EDQUOT)
+    return (isinstance(exc, sqlite3.OperationalError)
+            and getattr(exc, "sqlite_errorcode", None) == sqlite3.SQLITE_FULL)
+
+
+@dataclass(frozen=True)
+class Space:
+    """The data dir's room, as the store sees it (:meth:`JobStore.space`)."""
+
+    free_bytes: int
+    """Bytes free on the data dir's filesystem (for an unprivileged user)."""
+    reserve_bytes: int
+    """Bytes kept for the jobs already accepted: below this, new jobs are refused."""
+    held: int
+    """Outcomes of ended jobs held in memory, not yet written."""
+
+    @property
+    def ok(self) -> bool:
+        """New jobs are accepted, and every outcome is written."""
+        return self.free_bytes >= self.reserve_bytes and not self.held
+
+
+@dataclass(frozen=True)
+class _Held:
+    """The outcome of a job, as :meth:`JobStore.finish` takes it, kept in memory while the
+    disk is full."""
+
+    job_id: str
+    status: JobStatus
+    message: str
+    problem: Mapping[str, Any] | None
+    outputs: Mapping[str, Any] | None
+    started: float | None
+    now: float
+
+
+@dataclass(frozen=True)
+class _Write:
+    """A write waiting for the writer thread, and what it does when the disk is full."""
+
+    call: functools.partial[Any]
+    loop: asyncio.AbstractEventLoop
+    future: asyncio.Future[Any]
+    when_full: str | None
+
+
 def _settle(future: asyncio.Future[Any], outcome: tuple[bool, Any]) -> None:
     if future.done():  # the awaiting request went away
         return
@@ -239,15 +338,19 @@ def write_atomic(path: Path, data: Any, *, fsync: bool = True) -> None:
     """Write ``data`` (bytes, or any object, pickled as it is written) to ``path`` so that
     readers see the old file or the whole new one."""
     tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
-    with open(tmp, "wb") as f:
-        if isinstance(data, (bytes, bytearray, memoryview)):
-            f.write(data)
-        else:  # protocol 5 writes a large array's buffer straight to the file
-            pickle.dump(data, f, protocol=5)
-        if fsync:
-            f.flush()
-            os.fsync(f.fileno())
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "wb") as f:
+            if isinstance(data, (bytes, bytearray, memoryview)):
+                f.write(data)
+            else:  # protocol 5 writes a large array's buffer straight to the file
+                pickle.dump(data, f, protocol=5)
+            if fsync:
+                f.flush()
+                os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:  # e.g. no room left: no half-written file stays behind
+        tmp.unlink(missing_ok=True)
+        raise
     if fsync:
         dir_fd = os.open(path.parent, os.O_RDONLY)
         try:
@@ -261,17 +364,43 @@ def result_path(data_dir: Path, job_id: str) -> Path:
     return Path(data_dir) / "results" / f"{job_id}.pkl"
 
 
-class JobStore:
-    """Jobs, their inputs and their results under ``data_dir``."""
+def _lock(path: Path) -> Any:
+    """``path`` opened and locked exclusively, for as long as it stays open: one service
+    per data dir (a second one's start-up would take the first one's live uploads for a
+    crash's leftovers, and both would run the unfinished jobs)."""
+    f = open(path, "a+b")  # noqa: SIM115 - open for the store's lifetime
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        f.close()
+        raise RuntimeError(f"Another morphserve service uses the data dir {path.parent}; "
+                           "give each service a data dir of its own.") from None
+    return f
 
-    def __init__(self, data_dir: Path, *, fsync: bool = True, inline_input_bytes: int = 2**20
-                 ) -> None:
+
+class JobStore:
+    """Jobs, their inputs and their results under ``data_dir``.
+
+    ``reserve_bytes``: the free space kept for the jobs already accepted (new ones are
+    refused below it); default :data:`RESERVE_BYTES`, or :data:`RESERVE_SHARE` of the data
+    dir's filesystem where that is less."""
+
+    def __init__(self, data_dir: Path, *, fsync: bool = True, inline_input_bytes: int = 2**20,
+                 reserve_bytes: int | None = None) -> None:
         self.data_dir = Path(data_dir)
         self.fsync = fsync
         self.inline_input_bytes = inline_input_bytes
         for sub in ("results", "inputs"):
             (self.data_dir / sub).mkdir(parents=True, exist_ok=True)
+        self._lockfile = _lock(self.data_dir / "jobs.lock")
+        # nothing can be arriving: every body spooled before is a crash's leftover; a worker
+        # of an external scheduler may be writing a result even now, though
         remove_stale(self.data_dir / "inputs")
+        remove_stale(self.data_dir / "results", older_than=3600.0)
+        if reserve_bytes is None:
+            st = os.statvfs(self.data_dir)
+            reserve_bytes = min(RESERVE_BYTES, int(st.f_blocks * st.f_frsize * RESERVE_SHARE))
+        self.reserve_bytes = reserve_bytes
         path = self.data_dir / "jobs.sqlite3"
         # One connection writes, another reads: in WAL mode readers never wait for a commit's
         # fsync, and the event loop only ever reads.
@@ -286,7 +415,14 @@ class JobStore:
         self._rlock = threading.Lock()
         self._rdb = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
         self._rdb.execute("PRAGMA busy_timeout=5000")
-        self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
+        self._undo: list[Callable[[], None]] = []
+        """What undoes the open transaction's effects outside SQLite (files written, held
+        outcomes dropped), run if it is rolled back."""
+        self._held: dict[str, _Held] = {}
+        """Outcomes of ended jobs the disk had no room for (written by the writer thread)."""
+        self._held_lock = threading.Lock()
+        self._retry_at = 0.0
+        self._queue: queue.SimpleQueue[_Write | None] = queue.SimpleQueue()
         self._writer = threading.Thread(target=self._write_loop, name="morphserve-store",
                                         daemon=True)
         self._writer.start()
@@ -300,11 +436,34 @@ class JobStore:
     def close(self) -> None:
         self._queue.put(None)
         self._writer.join()
+        if self._held:
+            self._write_held()
+        if self._held:
+            log.warning("%d job outcomes were never written (the data dir is full): those "
+                        "jobs run again at the next start", len(self._held))
         with self._lock:
             self._db.close()
         with self._rlock:
             self._rdb.close()
+        self._lockfile.close()
 
+    # -- room ------------------------------------------------------------------------------
+    def free_bytes(self) -> int:
+        """Bytes free on the data dir's filesystem (as an unprivileged user may use them)."""
+        st = os.statvfs(self.data_dir)
+        return int(st.f_bavail * st.f_frsize)
+
+    def space(self) -> Space:
+        """The data dir's free space, the reserve and the outcomes held in memory."""
+        return Space(self.free_bytes(), self.reserve_bytes, len(self._held))
+
+    def _check_room(self, needed: int = 0) -> None:
+        """Raise :class:`StorageFull` unless ``needed`` bytes more leave the reserve free."""
+        free = self.free_bytes()
+        if free - needed < self.reserve_bytes:
+            raise StorageFull(free, self.reserve_bytes, needed)
+
+    # -- the writer thread -----------------------------------------------------------------
     def write(self, method: Callable[..., T], /, *args: Any, **kwargs: Any
               ) -> asyncio.Future[T]:
         """Run a writing ``method`` of this store on its writer thread; await the result,
@@ -312,15 +471,29 @@ class JobStore:
 
         Writes happen in submission order, off the event loop (a commit waits for its fsync
         without holding the GIL, so the loop serves other requests meanwhile), and those
-        waiting together share one commit (see the module's notes)."""
+        waiting together share one commit (see the module's notes). A write that finds the
+        disk full raises :class:`StorageFull`, but for a job's outcome (:meth:`finish`),
+        held in memory until there is room, and its start and progress, dropped."""
         loop = asyncio.get_running_loop()
         future: asyncio.Future[T] = loop.create_future()
-        self._queue.put((functools.partial(method, *args, **kwargs), loop, future))
+        mine = getattr(method, "__self__", None) is self
+        when_full = _WHEN_FULL.get(getattr(method, "__name__", "")) if mine else None
+        if when_full == "hold":  # the end is now, not when the outcome can be written
+            kwargs.setdefault("now", time.time())
+        self._queue.put(_Write(functools.partial(method, *args, **kwargs), loop, future,
+                               when_full))
         return future
 
     def _write_loop(self) -> None:
         while True:
-            first = self._queue.get()
+            if self._held and time.monotonic() >= self._retry_at:
+                self._write_held()
+            try:
+                first = self._queue.get(
+                    timeout=max(0.0, self._retry_at - time.monotonic()) if self._held
+                    else None)
+            except queue.Empty:  # time to try the held outcomes again
+                continue
             if first is None:
                 return
             batch = [first]
@@ -334,14 +507,61 @@ class JobStore:
                     stop = True
                     break
                 batch.append(item)
-            outcomes = self._run_batch([call for call, _, _ in batch])
-            for (_, loop, future), outcome in zip(batch, outcomes, strict=True):
+            outcomes = self._run_batch([w.call for w in batch])
+            for w, outcome in zip(batch, outcomes, strict=True):
+                if not outcome[0] and _is_full(outcome[1]):
+                    outcome = self._when_full(w, outcome[1])
                 try:
-                    loop.call_soon_threadsafe(_settle, future, outcome)
+                    w.loop.call_soon_threadsafe(_settle, w.future, outcome)
                 except RuntimeError:  # the loop is closed: nobody is waiting any more
                     pass
             if stop:
                 return
+
+    def _when_full(self, w: _Write, exc: BaseException) -> tuple[bool, Any]:
+        """The answer to a write that found the disk full (see :meth:`write`)."""
+        if w.when_full == "hold":
+            self._hold(w.call)
+            return True, True
+        if w.when_full == "drop":
+            return True, False
+        if isinstance(exc, StorageFull):
+            return False, exc
+        full = StorageFull(self.free_bytes(), self.reserve_bytes)
+        full.__cause__ = exc
+        return False, full
+
+    def _hold(self, call: functools.partial[Any]) -> None:
+        """Keep the outcome of :meth:`finish` ``call`` in memory until it can be written."""
+        a = inspect.signature(self.finish).bind(*call.args, **call.keywords).arguments
+        held = _Held(a["job_id"], JobStatus(a["status"]), a["message"], a.get("problem"),
+                     a.get("outputs"), a.get("started"), a["now"])
+        with self._held_lock:
+            self._held[held.job_id] = held
+        self._retry_at = time.monotonic() + HOLD_RETRY
+        log.warning("job %s ended %s but the data dir is full (%d bytes free): its outcome "
+                    "is held in memory and written when there is room", held.job_id,
+                    held.status, self.free_bytes())
+
+    def _write_held(self) -> None:
+        """Write the held outcomes, oldest first (those that find no room stay held)."""
+        self._retry_at = time.monotonic() + HOLD_RETRY
+        with self._held_lock:
+            pending = list(self._held.values())
+        for held in pending:
+            try:
+                self.finish(held.job_id, held.status, held.message, held.problem,
+                            held.outputs, started=held.started, now=held.now)
+            except Exception as exc:
+                if _is_full(exc):
+                    continue  # still no room: the next attempt is HOLD_RETRY seconds away
+                log.error("job %s: its held outcome could not be written (%s: %s); the job "
+                          "runs again at the next start", held.job_id, type(exc).__name__,
+                          exc)
+            else:
+                log.info("job %s: held outcome written", held.job_id)
+            with self._held_lock:
+                self._held.pop(held.job_id, None)
 
     def _run_batch(self, calls: list[Callable[[], Any]]) -> list[tuple[bool, Any]]:
         """Run the calls in one transaction, each in a savepoint; (ok, value or error)."""
@@ -362,15 +582,37 @@ class JobStore:
                         outcomes.append((False, exc))
                 self._db.execute("COMMIT")
             except BaseException as exc:  # noqa: BLE001 - the commit failed: nothing is durable
-                if self._db.in_transaction:
-                    self._db.execute("ROLLBACK")
+                self._rollback(0)
                 return [(False, exc)] * len(calls)
+            finally:
+                self._undo.clear()
         return outcomes
+
+    def _rollback(self, mark: int) -> None:
+        """Roll the open transaction back (SQLite may have done so already, as after a
+        failed commit) and undo what it did since ``mark`` outside SQLite."""
+        if self._db.in_transaction:
+            with contextlib.suppress(sqlite3.Error):
+                self._db.execute("ROLLBACK")
+        self._undo_since(mark)
+
+    def _undo_since(self, mark: int) -> None:
+        for undo in reversed(self._undo[mark:]):
+            undo()
+        del self._undo[mark:]
+
+    def _on_rollback(self, undo: Callable[[], None]) -> None:
+        """Run ``undo`` if the open transaction is rolled back; outside a transaction the
+        write is committed already and there is nothing to undo."""
+        if self._db.in_transaction:
+            self._undo.append(undo)
 
     @contextlib.contextmanager
     def _atomic(self) -> Iterator[None]:
-        """All or nothing: a transaction of its own, or a savepoint inside the current one."""
+        """All or nothing: a transaction of its own, or a savepoint inside the current one.
+        What :meth:`_on_rollback` registered meanwhile is undone if it is rolled back."""
         with self._lock:
+            mark = len(self._undo)
             if self._db.in_transaction:
                 self._db.execute("SAVEPOINT atomic")
                 try:
@@ -378,16 +620,19 @@ class JobStore:
                 except BaseException:
                     self._db.execute("ROLLBACK TO atomic")
                     self._db.execute("RELEASE atomic")
+                    self._undo_since(mark)
                     raise
                 self._db.execute("RELEASE atomic")
             else:
                 self._db.execute("BEGIN IMMEDIATE")
                 try:
                     yield
+                    self._db.execute("COMMIT")  # a full disk fails here
                 except BaseException:
-                    self._db.execute("ROLLBACK")
+                    self._rollback(mark)
                     raise
-                self._db.execute("COMMIT")
+                finally:
+                    del self._undo[mark:]
 
     # -- writing -----------------------------------------------------------------------------
     def create(self, *, process: str, inputs: Mapping[str, Any], request: JobRequest,
@@ -406,7 +651,14 @@ class JobStore:
         job_id = job_id or str(uuid.uuid4())
         inputs_file = None
         blob: bytes | None = None
-        large = _array_bytes(inputs) > self.inline_input_bytes
+        size = _array_bytes(inputs)
+        large = size > self.inline_input_bytes
+        try:
+            self._check_room(size)
+        except StorageFull:
+            if spool is not None:
+                spool.discard()
+            raise
         if spool is not None and not large:
             spool.discard()
         if large and spool is not None:  # the body is (mostly) on disk already
@@ -427,6 +679,9 @@ class JobStore:
                                  inputs_file=inputs_file)
         try:
             with self._lock:
+                if inputs_file:
+                    self._on_rollback(functools.partial(
+                        (self.data_dir / inputs_file).unlink, missing_ok=True))
                 self._db.execute(
                     "INSERT INTO jobs (id, process, status, created, updated, request, inputs, "
                     "inputs_file, time_limit, idempotency_key, request_hash, owner) "
@@ -520,6 +775,10 @@ class JobStore:
         with self._atomic():
             self._db.execute("DELETE FROM results WHERE id = ?", (job_id,))
             self._db.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
+            with self._held_lock:  # a held outcome goes with its row (back if it stays)
+                held = self._held.pop(job_id, None)
+            if held is not None:
+                self._on_rollback(functools.partial(self._held.__setitem__, job_id, held))
         if rec is not None and rec.inputs_file:
             (self.data_dir / rec.inputs_file).unlink(missing_ok=True)
         result_path(self.data_dir, job_id).unlink(missing_ok=True)
@@ -536,7 +795,22 @@ class JobStore:
                 cur.close()
 
     def _jobs(self, where: str, args: Iterable[Any] = ()) -> list[JobRecord]:
-        return [_record(r) for r in self._read(f"SELECT {_SELECT} FROM jobs {where}", args)]
+        jobs = [_record(r) for r in self._read(f"SELECT {_SELECT} FROM jobs {where}", args)]
+        return [self._with_held(j) for j in jobs] if self._held else jobs
+
+    def _with_held(self, job: JobRecord) -> JobRecord:
+        """``job`` as it reads with its held outcome (see the module's notes), as
+        :meth:`finish` would write it; an ended job (dismissed meanwhile) stays as it is."""
+        with self._held_lock:
+            held = self._held.get(job.id)
+        if held is None or not job.active:
+            return job
+        done = held.status is JobStatus.SUCCESSFUL
+        return dataclasses.replace(
+            job, status=held.status, message=held.message,
+            problem=dict(held.problem) if held.problem else None,
+            progress=100 if done else job.progress, started=job.started or held.started,
+            finished=held.now, updated=held.now)
 
     def get(self, job_id: str) -> JobRecord | None:
         found = self._jobs("WHERE id = ?", (job_id,))
@@ -596,7 +870,9 @@ class JobStore:
         return inputs
 
     def spool(self) -> Spool:
-        """A new :class:`Spool` for a request body, in the inputs directory."""
+        """A new :class:`Spool` for a request body, in the inputs directory; raises
+        :class:`StorageFull` first when the data dir is at its reserve."""
+        self._check_room()
         return Spool(self.data_dir / "inputs", fsync=self.fsync)
 
     def payload(self, job: JobRecord) -> dict[str, Any] | str:
@@ -611,6 +887,10 @@ class JobStore:
 
     def result(self, job_id: str) -> dict[str, Any]:
         """The outputs of a successful job."""
+        with self._held_lock:
+            held = self._held.get(job_id)
+        if held is not None and held.outputs is not None:
+            return dict(held.outputs)
         rows = self._read("SELECT outputs FROM results WHERE id = ?", (job_id,))
         blob = rows[0][0] if rows else result_path(self.data_dir, job_id).read_bytes()
         outputs: dict[str, Any] = pickle.loads(blob)

@@ -63,15 +63,32 @@ async def healthz() -> JSONResponse:
 
 
 @router.get("/readyz", operation_id="getReadiness",
-            summary="Readiness: the job store and at least one worker are up",
+            summary="Readiness: the job store has room and at least one worker is up",
             responses=docs.responses(None, 503))
 async def readyz(request: Request) -> JSONResponse:
+    """Ready: a worker is connected, the data dir has more free space than the store keeps
+    for the jobs accepted, and every ended job's outcome is written. The answer (the 503
+    problem too) carries ``workers``, ``free_bytes``, ``reserve_bytes`` and ``held`` (ended
+    jobs whose outcome waits in memory for room)."""
     st = state(request)
     workers = await st.engine.n_workers()
+    space = st.store.space()
+    facts = {"workers": workers, "free_bytes": space.free_bytes,
+             "reserve_bytes": space.reserve_bytes, "held": space.held}
+    reasons = []
     if workers == 0:
-        raise ServiceError("service-unavailable", "No Dask worker is connected yet.",
-                           headers={"Retry-After": "1"})
-    return JSONResponse({"status": "ready", "workers": workers})
+        reasons.append("No Dask worker is connected yet.")
+    if space.free_bytes < space.reserve_bytes:
+        reasons.append(f"The data dir has {space.free_bytes} bytes free, under the "
+                       f"{space.reserve_bytes} kept for the jobs accepted: new jobs are "
+                       "refused (507).")
+    if space.held:
+        reasons.append(f"{space.held} ended jobs wait in memory for room to write their "
+                       "outcome.")
+    if reasons:
+        raise ServiceError("service-unavailable", " ".join(reasons),
+                           headers={"Retry-After": "1"}, members=facts)
+    return JSONResponse({"status": "ready", **facts})
 
 
 @router.get("/metrics", operation_id="getMetrics", summary="Prometheus metrics",

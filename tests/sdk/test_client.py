@@ -25,6 +25,7 @@ from morphserve import (
     APIError,
     Client,
     IdempotencyConflict,
+    InsufficientStorage,
     InternalError,
     InvalidInput,
     JobDismissed,
@@ -732,6 +733,7 @@ SLUGS = [
     ("unauthorized", 401, Unauthorized),
     ("internal-error", 500, InternalError),
     ("service-unavailable", 503, ServiceUnavailable),
+    ("insufficient-storage", 507, InsufficientStorage),
 ]
 
 
@@ -810,6 +812,18 @@ def test_queue_full_retry_after(client: Client, server: FakeServer) -> None:
     with pytest.raises(QueueFull) as caught:
         client.execute("alignment.rigid", source=[[0]])
     assert caught.value.retry_after is None
+
+
+def test_insufficient_storage_says_what_was_free(client: Client, server: FakeServer) -> None:
+    server.forced = problem(507, "insufficient-storage", "The data dir is full.",
+                            headers={"Retry-After": "30"}, free_bytes=4096)
+    with pytest.raises(InsufficientStorage) as caught:
+        client.execute("alignment.rigid", source=[[0]])
+    assert (caught.value.free_bytes, caught.value.retry_after) == (4096, 30.0)
+    server.forced = problem(507, "insufficient-storage")
+    with pytest.raises(InsufficientStorage) as caught:
+        client.execute("alignment.rigid", source=[[0]])
+    assert (caught.value.free_bytes, caught.value.retry_after) == (None, None)
 
 
 def test_api_errors_pickle(client: Client, server: FakeServer) -> None:

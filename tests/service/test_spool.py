@@ -17,6 +17,7 @@ import pytest
 from algorithms.core.mesh import Mesh
 from service.binary import decode_arrays, lift_base64
 from service.jobs.spool import MAGIC, SYNC_EVERY, Spool, load_inputs, remove_stale
+from service.jobs.store import JobStore
 
 
 def _npy(a: np.ndarray) -> bytes:
@@ -96,7 +97,7 @@ def test_large_bodies_are_pushed_to_disk_as_they_come(tmp_path: Path) -> None:
     assert load_inputs(tmp_path / "job.pkl")["a"].tobytes() == a.tobytes()
 
 
-def test_remove_stale_spares_bodies_still_arriving(tmp_path: Path) -> None:
+def test_remove_stale_with_an_age_spares_bodies_still_arriving(tmp_path: Path) -> None:
     old, new = tmp_path / ".spool-old.tmp", tmp_path / ".spool-new.tmp"
     other = tmp_path / "job.pkl"
     for p in (old, new, other):
@@ -104,8 +105,55 @@ def test_remove_stale_spares_bodies_still_arriving(tmp_path: Path) -> None:
     hours_ago = time.time() - 7200
     os.utime(old, (hours_ago, hours_ago))
     os.utime(other, (hours_ago, hours_ago))
-    assert remove_stale(tmp_path) == 1
+    assert remove_stale(tmp_path, older_than=3600) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == [".spool-new.tmp", "job.pkl"]
+
+
+def test_start_up_removes_every_upload_a_crash_cut_off(tmp_path: Path) -> None:
+    """A body spooled a moment before a crash (mtime: now) is gone once the store starts,
+    and so is an inputs file cut off mid-write; inputs files of jobs stay, and so does a
+    result a worker of an external scheduler may still be writing."""
+    inputs, results = tmp_path / "inputs", tmp_path / "results"
+    inputs.mkdir()
+    results.mkdir()
+    cut = Spool(inputs, fsync=False)  # a real spool file, as an upload leaves it
+    cut.write(b"x" * 100_000)
+    cut._stop()
+    os.close(cut._fd)  # the process "dies": nothing discards it
+    half = inputs / ".1234.pkl.0123abcd.tmp"  # write_atomic's temporary, cut off
+    half.write_bytes(b"half")
+    kept = inputs / "1234.pkl"
+    kept.write_bytes(b"inputs")
+    writing = results / ".5678.pkl.89abcdef.tmp"  # a live worker's, just begun
+    writing.write_bytes(b"r")
+    stale = results / ".9999.pkl.00000000.tmp"
+    stale.write_bytes(b"r")
+    hours_ago = time.time() - 7200
+    os.utime(stale, (hours_ago, hours_ago))
+    assert cut.path.exists() and cut.path.stat().st_size == 100_000
+
+    store = JobStore(tmp_path, fsync=False)
+    try:
+        assert sorted(p.name for p in inputs.iterdir()) == ["1234.pkl"]
+        assert sorted(p.name for p in results.iterdir()) == [writing.name]
+    finally:
+        store.close()
+
+
+def test_one_service_per_data_dir(tmp_path: Path) -> None:
+    """A second store on a data dir in use refuses to start (it would take the first one's
+    uploads for leftovers); once the first is closed, it starts."""
+    first = JobStore(tmp_path, fsync=False)
+    live = first.spool()
+    live.write(b"body still arriving")
+    try:
+        with pytest.raises(RuntimeError, match="Another morphserve service uses the data dir"):
+            JobStore(tmp_path, fsync=False)
+        assert live.path.exists()  # the refused store removed nothing
+    finally:
+        live.discard()
+        first.close()
+    JobStore(tmp_path, fsync=False).close()
 
 
 def _json_body(arrays: dict[str, np.ndarray]) -> bytearray:
