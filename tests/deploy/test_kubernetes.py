@@ -183,6 +183,14 @@ def test_api_keys_come_from_the_mounted_secret() -> None:
     volume = next(v for v in pod_spec("morphserve-api")["volumes"] if v["name"] == mount["name"])
     secret = resource("Secret", volume["secret"]["secretName"])
     assert keys_file.name in secret["stringData"]
+    # readable by the pod's user: the Secret's files are 0644 unless defaultMode says otherwise
+    # (group-readable is enough, the pod's fsGroup being the image's user's group)
+    mode = volume["secret"].get("defaultMode", 0o644)
+    assert mode & 0o004 or (mode & 0o040 and pod_spec("morphserve-api")["securityContext"]
+                                            ["fsGroup"] == 10001), oct(mode)
+    # mounted as a directory, not a subPath: the kubelet then updates the file when the Secret
+    # changes, and the service re-reads it (keys added or revoked without a restart)
+    assert "subPath" not in mount
 
 
 def test_worker_memory_limit_sits_below_the_containers() -> None:
