@@ -8,7 +8,9 @@ from the service's own JSON and binary endpoints (``/processes``, ``/jobs``,
 document: they are the browser's, not the API's.
 
 ``/ui/examples.json`` is the catalog's example inputs of every process, which the page
-uses for a process whose OpenAPI execute operation carries no example.
+uses for a process whose OpenAPI execute operation carries no example. ``/ui/samples.json``
+(a static file) lists the sample data sets the page offers and the processes each suits, such
+as ``/ui/sample-digits.json`` (UCI handwritten digits, CC BY 4.0; see ``examples/digits/``).
 """
 
 from __future__ import annotations

@@ -14,6 +14,8 @@ const state = {
   descriptions: new Map(),
   openapi: null,          // the OpenAPI document, read once for the examples
   catalogExamples: null,
+  samples: null,          // the sample data sets (/ui/samples.json), read once
+  sampleData: new Map(),  // sample id -> its data file, read when first chosen
   process: null,          // the chosen description
   form: null,
   job: null,              // statusInfo of the job followed
@@ -80,6 +82,7 @@ async function chooseProcess(id) {
   }
   info.append(link);
   state.form = new ProcessForm($("#fields"), d);
+  await renderSamples(d);
   const ex = await example(id);
   $("#example").disabled = !ex;
   $("#example").title = ex ? "Fill the form with the process's example" : "This process has no example";
@@ -112,6 +115,44 @@ async function example(id) {
   }
   const ex = state.catalogExamples[id];
   return ex && Object.keys(ex).length ? ex : null;
+}
+
+// ---------------------------------------------------------------- sample data
+/** The sample data sets offered for a process (samples.json names the processes each suits). */
+async function samplesFor(d) {
+  if (state.samples === null) {
+    try { state.samples = (await api.getJSON("/ui/samples.json")).samples || []; } catch { state.samples = []; }
+  }
+  return state.samples.filter((s) => s.processes.includes(d.id) && s.fills.some((n) => n in (d.inputs || {})));
+}
+
+async function renderSamples(d) {
+  const select = $("#sample");
+  select.replaceChildren(new Option("Sample data…", ""));
+  $("#sample-info").hidden = true;
+  const offered = await samplesFor(d);
+  for (const s of offered) select.append(new Option(s.title, s.id));
+  select.hidden = offered.length === 0;
+  select.value = "";
+}
+
+/** Fills the form with a sample: its members named like the process's inputs, the other
+ * inputs back to their defaults; says where the data come from and under what licence. */
+async function fillSample(sampleId) {
+  const s = (state.samples || []).find((x) => x.id === sampleId);
+  if (!s || !state.process) return;
+  showProblem(null);
+  let data = state.sampleData.get(s.id);
+  if (!data) {
+    try { data = await api.getJSON(s.file); } catch (e) { showProblem(e); return; }
+    state.sampleData.set(s.id, data);
+  }
+  const inputs = {};
+  for (const name of s.fills) if (name in (state.process.inputs || {}) && name in data) inputs[name] = data[name];
+  state.form.fill(inputs);
+  const info = $("#sample-info");
+  info.textContent = `${data.title}. ${data.description} Source: ${data.source}. Licence: ${data.licence}.`;
+  info.hidden = false;
 }
 
 // ---------------------------------------------------------------- jobs
@@ -416,8 +457,12 @@ function wire() {
   $("#family").addEventListener("change", renderProcessList);
   $("#process").addEventListener("change", (e) => { if (e.target.value) chooseProcess(e.target.value); });
   $("#example").addEventListener("click", async () => {
-    if (state.process) state.form.fill(await example(state.process.id));
+    if (!state.process) return;
+    state.form.fill(await example(state.process.id));
+    $("#sample").value = "";
+    $("#sample-info").hidden = true;
   });
+  $("#sample").addEventListener("change", (e) => { if (e.target.value) fillSample(e.target.value); });
   $("#form").addEventListener("submit", run);
   $("#cancel").addEventListener("click", cancel);
   $("#tab-run").addEventListener("click", () => selectTab("run"));
