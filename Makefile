@@ -51,8 +51,12 @@ openapi: $(VENV)/.installed
 sdk: $(VENV)/.installed
 	$(BIN)/python -m service.sdkgen morphserve/_typed.py
 
+# Every bench against its peer, under both thread policies (one thread, and each library's
+# defaults), ours and the peer interleaved: one table printed and build/bench/results.txt
+# and results.json (build/ is not committed). BENCH_ARGS=--quick for the small sizes.
+BENCH_ARGS ?=
 bench: $(VENV)/.installed-test
-	$(BIN)/python bench/service_overhead.py
+	$(BIN)/python bench/run.py $(BENCH_ARGS)
 
 # The licence of every distribution the default install brings (tests/test_licences.py
 # checks the same list: no GPL, AGPL or LGPL outside an optional extra); the file is a test

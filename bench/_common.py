@@ -1,28 +1,50 @@
-"""What the bench scripts share: timing, the plain-text tables they print, the test mesh and
-the timing of the sparse Cholesky backends.
+"""What the bench scripts share: the harness every row against a peer goes through
+(:func:`compare`), the plain-text tables they print, the test shapes and the timing of the
+sparse Cholesky backends.
 
 Each script puts the repository root and this folder on ``sys.path`` and imports from here::
 
     sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
-    from _common import timed, print_table  # noqa: E402
+    from _common import apply_policy, compare, report  # noqa: E402
+
+and in its ``main``: ``apply_policy()``, one :func:`compare` per row, then ``report(title)``.
+``bench/run.py`` runs each script once per thread policy (``BENCH_THREADS=1`` with the
+thread variables at 1, and the libraries' defaults) and gathers the rows of every script
+into one table and one JSON file.
+
+The rules :func:`compare` keeps: one untimed warm-up call of each side; the two sides
+called alternately (the side that goes first alternating too), on the data of at least 3
+seeds, the data made outside the timed region; the median and range of the times, the
+ratio of the medians with the range of the pair-by-pair ratios; CPU seconds per wall second
+of each side (the threads it really used); each side's accuracy on every seed; the thread
+policy, cores and pools allowed; the load average before and after.
 
 A benchmark never asserts; nothing here does either.
 """
 
 from __future__ import annotations
 
+import contextlib
+import json
+import os
 import statistics
+import sys
 import time
+import warnings
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+from threadpoolctl import threadpool_info, threadpool_limits
 
 from algorithms.core.laplacian import cotangent_laplacian
 from algorithms.core.linsolve import Factor, available_backends
 
 __all__ = ["timed", "timed_pair", "wavy_grid", "backend_timings", "table_lines",
-           "print_table", "print_ratio_table"]
+           "print_table", "print_ratio_table", "compare", "report", "workers", "apply_policy",
+           "single_thread", "threads_allowed", "MODE", "SEEDS", "ROWS", "ROW_HEADER",
+           "row_cells", "LEFT"]
 
 
 def timed(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
@@ -149,3 +171,242 @@ def angle_deg(r_est: np.ndarray, r_true: np.ndarray) -> float:
     """The angle of the rotation between two rotation matrices, in degrees."""
     c = (np.trace(r_est @ r_true.T) - 1.0) / 2.0
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
+
+
+# ---------------------------------------------------------------------------------------
+# The harness: every row of every bench goes through :func:`compare`.
+# ---------------------------------------------------------------------------------------
+
+#: The thread policy of this process, set by ``bench/run.py`` (``BENCH_THREADS``): ``"1"``
+#: pins the process to one core and holds every BLAS/OpenMP pool to one thread (the
+#: environment variables are set before the process starts, so every OpenMP runtime reads
+#: them) and Open3D's TBB pool too (``set_max_threads``: TBB ignores ``OMP_NUM_THREADS``);
+#: ``"default"`` leaves each library as it runs untouched.
+MODE = os.environ.get("BENCH_THREADS", "default")
+#: Seeds of the data of every row (``BENCH_SEEDS``: how many, at least 3).
+SEEDS = tuple(range(max(3, int(os.environ.get("BENCH_SEEDS", "3")))))
+#: The rows measured so far in this process (see :func:`compare`).
+ROWS: list[dict[str, Any]] = []
+#: Only the rows whose "case vs peer" holds one of these ``|``-separated words
+#: (``BENCH_CASES``; empty: every row).
+CASES = tuple(w for w in os.environ.get("BENCH_CASES", "").split("|") if w)
+#: Calls shorter than this are repeated within a seed (more pairs, less noise).
+SHORT = 0.2
+
+
+def single_thread() -> bool:
+    """Whether this process runs the one-thread policy."""
+    return MODE == "1"
+
+
+def apply_policy() -> None:
+    """Pin this process to one core under the one-thread policy (a no-op otherwise).
+
+    ``bench/run.py`` sets ``OMP_NUM_THREADS`` and the BLAS variables before the process
+    starts; a bench run by hand with ``BENCH_THREADS=1`` gets the same pinning here, and
+    :func:`compare` also holds the pools to one thread through ``threadpoolctl``.
+    """
+    if single_thread() and hasattr(os, "sched_setaffinity"):
+        cpus = sorted(os.sched_getaffinity(0))
+        os.sched_setaffinity(0, {cpus[0]})
+
+
+def workers() -> int:
+    """The kd-tree ``workers`` a peer loop written in the bench passes: 1 under the one-thread
+    policy, -1 (every core) by default."""
+    return 1 if single_thread() else -1
+
+
+def threads_allowed() -> dict[str, Any]:
+    """What this process lets each side use: its cores (affinity), the thread variables of
+    the environment, every thread pool ``threadpoolctl`` sees (BLAS, OpenMP once loaded) and
+    Open3D's own limit (it runs on TBB, which ignores ``OMP_NUM_THREADS``) once it is
+    imported."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    env = {k: os.environ[k] for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+                                      "MKL_NUM_THREADS") if k in os.environ}
+    pools = sorted({f"{p['internal_api']}:{p['num_threads']}"
+                    for p in threadpool_info()})
+    o3d = sys.modules.get("open3d")
+    if o3d is not None:
+        pools.append(f"open3d-tbb:{o3d.utility.get_max_threads()}")
+    return {"mode": MODE, "cores": cores, "env": env, "pools": pools}
+
+
+def _hold_open3d() -> None:
+    """Open3D's TBB pool to one thread under the one-thread policy, once it is imported."""
+    o3d = sys.modules.get("open3d")
+    if single_thread() and o3d is not None:
+        o3d.utility.set_max_threads(1)
+
+
+def _threads_label(t: dict[str, Any]) -> str:
+    pools = ",".join(p.split(":")[0] + "=" + p.split(":")[1] for p in t["pools"])
+    return f"{t['cores']} core{'s' if t['cores'] != 1 else ''} ({pools})"
+
+
+def _summary(values: Sequence[float]) -> dict[str, float]:
+    return {"median": float(statistics.median(values)), "min": float(min(values)),
+            "max": float(max(values))}
+
+
+def compare(family: str, case: str, data: Callable[[int], Any],
+            ours: Callable[[Any], Any], peer: Callable[[Any], Any] | None = None,
+            accuracy: Callable[[Any, Any], dict[str, float]] | None = None, *,
+            peer_name: str = "", ours_threads: str = "", peer_threads: str = "",
+            seeds: Sequence[int] = SEEDS, warmup: bool | Callable[[], Any] = True,
+            repeats: int | None = None,
+            agreement: Callable[[Any, Any, Any], dict[str, float]] | None = None
+            ) -> dict[str, Any] | None:
+    """Time ``ours`` against ``peer`` interleaved, and measure both one's accuracy per seed.
+
+    For each seed ``s``, ``d = data(s)`` is made outside the timed region, then ``ours(d)``
+    and ``peer(d)`` are timed alternately, the side that goes first alternating from one
+    pair to the next, so that a busy machine slows both alike. One untimed call of each side
+    on the first seed's data comes first (imports, first-call costs, caches; ``warmup`` may
+    instead give smaller data for it, or be false). A call that
+    took under ``SHORT`` seconds in the warm-up is repeated 5 times per seed, else once
+    (``repeats`` overrides). ``accuracy(d, result)`` is applied to each side's first result
+    on every seed (a mapping of figure names to numbers), so neither side's accuracy comes
+    from one seed or from its last repeat only; ``agreement(d, ours_result, peer_result)``,
+    when given, compares the two sides' first results on every seed (e.g. the largest
+    difference of their outputs).
+
+    Returns the row (also appended to :data:`ROWS`): the case, the peer's name, the times
+    of each side (median, min, max, and every time), the ratio ours / peer (of the medians,
+    with the range of the pair-by-pair ratios), each side's accuracy per seed, the thread
+    policy and the pools each side was allowed (with the bench's own notes, e.g. a kd-tree's
+    ``workers``), and the load average before and after. ``peer=None`` times ours alone.
+    A row that :data:`CASES` leaves out is not run (``None``).
+    """
+    if CASES and not any(w in f"{case} vs {peer_name}" for w in CASES):
+        return None
+    limits = threadpool_limits(1) if single_thread() else contextlib.nullcontext()
+    load_before = os.getloadavg()
+    sides: list[tuple[str, Callable[[Any], Any]]] = [("ours", ours)]
+    if peer is not None:
+        sides.append(("peer", peer))
+    times: dict[str, list[float]] = {name: [] for name, _ in sides}
+    cpu: dict[str, list[float]] = {name: [] for name, _ in sides}
+    acc: dict[str, dict[str, list[float]]] = {name: {} for name, _ in sides}
+    agree: dict[str, list[float]] = {}
+    pairs: list[float] = []
+    with limits, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        first = data(seeds[0])
+        per_seed = repeats or 1
+        if warmup:
+            slow = 0.0
+            w = warmup() if callable(warmup) else first
+            _hold_open3d()
+            for _, fn in sides:
+                t = time.perf_counter()
+                fn(w)
+                slow = max(slow, time.perf_counter() - t)
+            if repeats is None and slow < SHORT:
+                per_seed = 5
+        _hold_open3d()
+        k = 0
+        for s in seeds:
+            d = first if s == seeds[0] else data(s)
+            for r in range(per_seed):
+                order = sides if k % 2 == 0 else sides[::-1]
+                pair: dict[str, float] = {}
+                got: dict[str, Any] = {}
+                for name, fn in order:
+                    c, t = time.process_time(), time.perf_counter()
+                    value = fn(d)
+                    pair[name] = time.perf_counter() - t
+                    times[name].append(pair[name])
+                    cpu[name].append(time.process_time() - c)
+                    got[name] = value
+                    if r == 0 and accuracy is not None:
+                        for key, x in accuracy(d, value).items():
+                            acc[name].setdefault(key, []).append(float(x))
+                if peer is not None:
+                    pairs.append(pair["ours"] / pair["peer"])
+                    if r == 0 and agreement is not None:
+                        for key, x in agreement(d, got["ours"], got["peer"]).items():
+                            agree.setdefault(key, []).append(float(x))
+                k += 1
+        threads = threads_allowed()
+    row: dict[str, Any] = {
+        "family": family, "case": case, "peer": peer_name, "mode": MODE,
+        "seeds": list(seeds), "repeats_per_seed": per_seed,
+        "ours": {**_summary(times["ours"]), "times": times["ours"],
+                 "cpu_per_wall": sum(cpu["ours"]) / sum(times["ours"]),
+                 "accuracy": acc["ours"]},
+        "agreement": agree,
+        "threads": {**threads, "ours": ours_threads, "peer": peer_threads},
+        "load": {"before": list(load_before), "after": list(os.getloadavg())},
+    }
+    if peer is not None:
+        row["peer_times"] = {**_summary(times["peer"]), "times": times["peer"],
+                             "cpu_per_wall": sum(cpu["peer"]) / sum(times["peer"]),
+                             "accuracy": acc["peer"]}
+        row["ratio"] = {"median": row["ours"]["median"] / row["peer_times"]["median"],
+                        "min": min(pairs), "max": max(pairs)}
+    ROWS.append(row)
+    print(f"  {family}: {case} [{_threads_label(threads)}] ours {_fmt_time(row['ours'])}"
+          + (f", peer {_fmt_time(row['peer_times'])}, ratio {_fmt_ratio(row['ratio'])}"
+             if peer is not None else ""), flush=True)
+    return row
+
+
+def _fmt_time(s: dict[str, float]) -> str:
+    return f"{s['median']:.3g} [{s['min']:.3g}–{s['max']:.3g}]"
+
+
+def _fmt_ratio(r: dict[str, float]) -> str:
+    return f"{r['median']:.2f} [{r['min']:.2f}–{r['max']:.2f}]"
+
+
+def _fmt_acc(acc: dict[str, list[float]]) -> str:
+    parts = []
+    for key, vals in acc.items():
+        if not vals:
+            continue
+        med = statistics.median(vals)
+        if min(vals) == max(vals):
+            parts.append(f"{key} {med:.4g}")
+        else:
+            parts.append(f"{key} {med:.4g} [{min(vals):.3g}–{max(vals):.3g}]")
+    return ", ".join(parts) or "—"
+
+
+def row_cells(row: dict[str, Any]) -> tuple[str, ...]:
+    """A row of :func:`compare` as the cells of :data:`ROW_HEADER`."""
+    peer = row.get("peer_times")
+    threads = "1 thread" if row["mode"] == "1" else "default"
+    threads += f": {_threads_label(row['threads'])}"
+    cpu = f"{row['ours']['cpu_per_wall']:.2f}"
+    if peer:
+        cpu += f" / {peer['cpu_per_wall']:.2f}"
+    return (row["family"], row["case"], row["peer"] or "—", threads, _fmt_time(row["ours"]),
+            _fmt_time(peer) if peer else "—", _fmt_ratio(row["ratio"]) if peer else "—", cpu,
+            _fmt_acc(row["ours"]["accuracy"]), _fmt_acc(peer["accuracy"]) if peer else "—",
+            _fmt_acc(row.get("agreement", {})),
+            f"{row['load']['before'][0]:.1f}→{row['load']['after'][0]:.1f}")
+
+
+#: The columns of the one table (``bench/run.py`` and :func:`report`).
+ROW_HEADER = ("family", "case", "peer", "threads allowed", "ours s: median [range]",
+              "peer s: median [range]", "ours/peer", "cpu/wall ours / peer",
+              "ours: accuracy, median [range] over seeds", "peer: accuracy",
+              "ours vs peer", "load 1 min")
+#: The columns :func:`table_lines` aligns left.
+LEFT = (0, 1, 2, 3, 8, 9, 10)
+
+
+def report(title: str) -> None:
+    """Print this process's rows as one table, and write them to the JSON file named by
+    ``BENCH_JSON`` when it is set (``bench/run.py`` gathers them)."""
+    print(f"\n{title}: median [range] of the timed runs (seeds {list(SEEDS)}, ours and the "
+          "peer alternately after a warm-up); ratio = ours / peer (below 1: we are faster), "
+          "the range that of the pair-by-pair ratios")
+    for line in table_lines(ROW_HEADER, [row_cells(r) for r in ROWS],
+                            left=LEFT):
+        print(line)
+    out = os.environ.get("BENCH_JSON")
+    if out:
+        Path(out).write_text(json.dumps(ROWS, indent=1))

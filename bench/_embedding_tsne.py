@@ -1,19 +1,20 @@
 """t-SNE against openTSNE (FFT gradients) and scikit-learn (Barnes–Hut), side by side, and a
 100,000-point run.
 
-:func:`case_tsne` gives rows for ``bench/embedding.py``'s table (``print_ratio_table``):
-``(case, our seconds, the peer's seconds, our figures, the peer's figures)``, the figures
-being the trustworthiness (k = 5, the same function for both) and the KL divergence of
-each embedding under the *same* P (ours: 3·perplexity nearest neighbours) with the exact
-normaliser Z (all pairs, in blocks), so neither library's own approximation of KL is
-trusted. Times are medians of ``repeats`` runs, ours and the peer's alternately.
+:func:`case_tsne` adds rows to ``bench/embedding.py``'s table through
+``_common.compare`` (ours and the peer alternately, on the data of seeds 0..2, after a
+warm-up on 1,000 points), the figures being the trustworthiness (k = 5, the same function
+for both) and the KL divergence of each embedding under the *same* P (ours: 3·perplexity
+nearest neighbours) with the exact normaliser Z (all pairs, in blocks), so neither
+library's own approximation of KL is trusted.
 
 Data: 10,000 points in 50 dimensions (``--quick``: 2,000), 20 Gaussian clusters of
-different spreads (``make_blobs``, seed 0). Every method runs its defaults: ours 250 + 500
-steps (openTSNE's schedule), openTSNE 250 + 500 with ``n_jobs=1``, scikit-learn 1,000 steps
-(``max_iter``) with its OpenMP threads limited to 1 (the machine is shared).
+different spreads (``make_blobs``, the seed's draw). Every method runs its defaults: ours
+250 + 500 steps (openTSNE's schedule), openTSNE 250 + 500 (its default ``n_jobs=1``),
+scikit-learn 1,000 steps (``max_iter``) with its default threads (OpenMP); under the
+one-thread policy every pool is held to one thread.
 
-    python bench/_embedding_tsne.py [--repeats 1] [--quick] [--big 100000]
+    python bench/_embedding_tsne.py [--quick] [--big 100000]
 
 ``--big N`` (0 to skip) also embeds N points of the same kind once and prints the time
 and the peak memory (tracemalloc of the call, and the process's peak RSS). openTSNE is
@@ -29,16 +30,16 @@ import sys
 import time
 import tracemalloc
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
-from _common import print_ratio_table, timed_pair  # noqa: E402
+from _common import apply_policy, compare, report  # noqa: E402
 from sklearn.datasets import make_blobs  # noqa: E402
 from sklearn.manifold import TSNE  # noqa: E402
-from threadpoolctl import threadpool_limits  # noqa: E402
 
 from algorithms.embedding import trustworthiness, tsne  # noqa: E402
 from algorithms.embedding.tsne import affinities  # noqa: E402
@@ -49,11 +50,11 @@ except ImportError:  # pragma: no cover - optional peer
     openTSNE = None
 
 
-def data(n: int) -> np.ndarray:
+def data(n: int, seed: int = 0) -> np.ndarray:
     """``n`` points in 50 dimensions: 20 clusters of spreads 1..4."""
     std = np.linspace(1.0, 4.0, 20)
     return make_blobs(n, n_features=50, centers=20, cluster_std=std, center_box=(-20, 20),
-                      random_state=0)[0]
+                      random_state=seed)[0]
 
 
 def exact_kl(p: sp.csr_matrix, y: np.ndarray) -> float:
@@ -70,37 +71,32 @@ def exact_kl(p: sp.csr_matrix, y: np.ndarray) -> float:
     return float((v * np.log(v)).sum() + (v * np.log1p(d2e)).sum() + np.log(z))
 
 
-def _figures(x: np.ndarray, p: sp.csr_matrix, y: np.ndarray) -> str:
-    return f"T={trustworthiness(x, y):.4f} KL={exact_kl(p, y):.4f}"
+def _figures(d: dict[str, Any], y: np.ndarray) -> dict[str, float]:
+    return {"T": trustworthiness(d["x"], y), "KL": exact_kl(d["p"], y)}
 
 
-def case_tsne(repeats: int, quick: bool) -> list[tuple[str, float, float, str, str]]:
-    """Rows ``(case, ours_s, peer_s, our_quality, peer_quality)`` against openTSNE (when
-    importable) and scikit-learn, on 10,000 × 50 (``quick``: 2,000 × 50)."""
+def case_tsne(quick: bool) -> None:
+    """Rows against openTSNE (when importable) and scikit-learn, on 10,000 × 50
+    (``quick``: 2,000 × 50)."""
     n = 2000 if quick else 10_000
-    x = data(n)
-    p = affinities(x, 30.0, dense=False)
-    rows = []
 
-    def ours() -> np.ndarray:
-        return tsne(x, method="fft").embedding
+    def sample(seed: int, size: int = n) -> dict[str, Any]:
+        x = data(size, seed)
+        return {"x": x, "p": affinities(x, 30.0, dense=False)}
+
+    small = sample(99, 1000)
+
+    def ours(d: dict[str, Any]) -> np.ndarray:
+        return tsne(d["x"]).embedding
 
     if openTSNE is not None:
-        def peer_open() -> np.ndarray:
-            return np.asarray(openTSNE.TSNE(n_jobs=1, random_state=0).fit(x))
-
-        t_ours, a, t_peer, b = timed_pair(ours, peer_open, repeats)
-        rows.append((f"t-SNE fft vs openTSNE fft, n={n}×50", t_ours, t_peer,
-                     _figures(x, p, a), _figures(x, p, b)))
-
-    def peer_sk() -> np.ndarray:
-        with threadpool_limits(1):
-            return TSNE(init="pca", random_state=0).fit_transform(x)
-
-    t_ours, a, t_peer, b = timed_pair(ours, peer_sk, repeats)
-    rows.append((f"t-SNE fft vs sklearn barnes_hut, n={n}×50", t_ours, t_peer,
-                 _figures(x, p, a), _figures(x, p, b)))
-    return rows
+        compare("embedding", f"t-SNE (defaults), n={n}×50", sample, ours,
+                lambda d: np.asarray(openTSNE.TSNE(random_state=0).fit(d["x"])), _figures,
+                peer_name="openTSNE TSNE (defaults: fft, n_jobs=1)", warmup=lambda: small,
+                repeats=1, peer_threads="n_jobs=1 (its default)")
+    compare("embedding", f"t-SNE (defaults), n={n}×50", sample, ours,
+            lambda d: TSNE(init="pca", random_state=0).fit_transform(d["x"]), _figures,
+            peer_name="sklearn TSNE (barnes_hut)", warmup=lambda: small, repeats=1)
 
 
 def big_run(n: int) -> None:
@@ -108,26 +104,25 @@ def big_run(n: int) -> None:
     x = data(n)
     tracemalloc.start()
     t = time.perf_counter()
-    res = tsne(x, method="fft")
+    res = tsne(x)
     elapsed = time.perf_counter() - t
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # KiB on Linux
-    print(f"t-SNE fft, n={n:,}×50: {elapsed:.1f} s, {res.iterations} iterations, "
+    print(f"t-SNE (defaults), n={n:,}×50: {elapsed:.1f} s, {res.iterations} iterations, "
           f"KL {res.kl_divergence:.4f} (interpolated Z), T={res.trustworthiness:.4f}, "
           f"peak traced memory {peak / 2**20:.0f} MiB, process peak RSS {rss:.0f} MiB")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--quick", action="store_true", help="2,000 points, not 10,000")
     parser.add_argument("--big", type=int, default=100_000, help="points of the big run "
                         "(0: skip)")
     args = parser.parse_args()
-    print("threads: ours 1 (numpy/scipy, BLAS limited to 1 inside tsne), openTSNE n_jobs=1, "
-          "scikit-learn OpenMP/BLAS limited to 1")
-    print_ratio_table(case_tsne(args.repeats, args.quick), args.repeats)
+    apply_policy()
+    case_tsne(args.quick)
+    report("t-SNE")
     if args.big:
         big_run(args.big)
 

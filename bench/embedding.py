@@ -1,13 +1,14 @@
 """The deterministic embeddings against scikit-learn, side by side in one run.
 
-Prints one table: for each case our time, scikit-learn's on the same data, their ratio
-(ours / peer: below 1 is faster) and the trustworthiness (k = 5, the same function for
-both) each embedding reaches, so that speed is never bought with quality unseen. Every time
-is the median of --repeats runs, ours and the peer's called alternately.
+Every row goes through ``_common.compare``: ours and scikit-learn alternately after a
+warm-up, on the data of seeds 0..2, the median and range of the times, the threads
+allowed, and the trustworthiness (k = 5, the same function for both) each embedding reaches
+on every seed, so that speed is never bought with quality unseen.
 
-    python bench/embedding.py [--repeats 3] [--quick] [--only isomap]
+    python bench/embedding.py [--quick] [--only isomap] [--big N]
 
-Cases (sizes divided by 5 with --quick):
+Cases (sizes divided by 5 with --quick; the swiss roll and the digits subset drawn per
+seed):
 
 - Isomap, 5,000-point swiss roll, 10 neighbours, vs ``sklearn.manifold.Isomap`` (defaults:
   ARPACK);
@@ -18,7 +19,8 @@ Cases (sizes divided by 5 with --quick):
 - classical MDS, 1,000 points of ``load_digits``, vs ``ClassicalMDS``;
 - metric MDS (SMACOF from classical MDS), the same points, vs ``MDS(init="classical_mds",
   n_init=1)`` (each library's default stopping rule);
-- PCA, all 1,797 digits, vs ``PCA``.
+- PCA, 1,500 digits, vs ``PCA``;
+- t-SNE against openTSNE and scikit-learn (``_embedding_tsne``).
 
 A benchmark never asserts.
 """
@@ -29,12 +31,14 @@ import argparse
 import sys
 import warnings
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 # the packages first (tests/algorithms must not shadow algorithms), then bench/ for _common
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from _common import print_ratio_table, timed_pair  # noqa: E402
+import numpy as np  # noqa: E402
+from _common import apply_policy, compare, report  # noqa: E402
 from scipy.spatial import procrustes  # noqa: E402
 from sklearn.datasets import load_digits, make_swiss_roll  # noqa: E402
 from sklearn.decomposition import PCA  # noqa: E402
@@ -60,60 +64,76 @@ warnings.simplefilter("ignore", ConvergenceWarning)
 warnings.simplefilter("ignore", FutureWarning)
 
 
-def _case(name, x, ours, peer, repeats, *, disparity=False):  # noqa: ANN001, ANN202
-    t_ours, a, t_peer, b = timed_pair(ours, peer, repeats)
-    mine = f"T={trustworthiness(x, a):.4f}"
-    if disparity:  # the same embedding up to an orthogonal map and a scale
-        mine += f", Procrustes disparity {procrustes(a, b)[2]:.1e}"
-    return (name, t_ours, t_peer, mine, f"T={trustworthiness(x, b):.4f}")
+FAMILY = "embedding"
+
+
+def _case(name: str, data: Any, ours: Any, peer: Any, peer_name: str, *,
+          disparity: bool = False) -> None:
+    def quality(x: np.ndarray, y: np.ndarray) -> dict[str, float]:
+        return {"T": trustworthiness(x, y)}
+
+    def agree(_x: np.ndarray, a: np.ndarray, b: np.ndarray) -> dict[str, float]:
+        # the same embedding up to an orthogonal map and a scale
+        return {"Procrustes disparity": procrustes(a, b)[2]}
+
+    compare(FAMILY, name, data, ours, peer, quality, peer_name=peer_name,
+            agreement=agree if disparity else None)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="a fifth of the sizes")
     parser.add_argument("--big", type=int, default=0, metavar="N",
                         help="also embed N points by t-SNE once (time, peak memory)")
     parser.add_argument("--only", metavar="WORD",
                         help="only the cases whose name holds WORD (e.g. isomap, tsne)")
     args = parser.parse_args()
-    r = args.repeats
+    apply_policy()
     n = 1000 if args.quick else 5000
     m = 200 if args.quick else 1000
-    roll = make_swiss_roll(n, random_state=0)[0]
     digits = load_digits().data
-    cases = [
-        lambda: _case(f"isomap, swiss roll n={n}, k=10", roll,
-                      lambda: isomap(roll, n_neighbors=10).embedding,
-                      lambda: Isomap(n_neighbors=10).fit_transform(roll), r, disparity=True),
-        lambda: _case(f"lle, swiss roll n={n}, k=10", roll,
-                      lambda: lle(roll, n_neighbors=10).embedding,
-                      lambda: LocallyLinearEmbedding(n_neighbors=10, random_state=0)
-                      .fit_transform(roll), r),
-        lambda: _case(f"laplacian eigenmaps, swiss roll n={n}, k=10", roll,
-                      lambda: laplacian_eigenmaps(roll, n_neighbors=10).embedding,
-                      lambda: SpectralEmbedding(n_neighbors=10, random_state=0)
-                      .fit_transform(roll), r),
-        lambda: _case(f"classical mds, digits n={m}", digits[:m],
-                      lambda: mds(digits[:m]).embedding,
-                      lambda: ClassicalMDS().fit_transform(digits[:m]), r),
-        lambda: _case(f"metric mds (smacof), digits n={m}", digits[:m],
-                      lambda: mds(digits[:m], metric=True).embedding,
-                      lambda: MDS(init="classical_mds", n_init=1, random_state=0)
-                      .fit_transform(digits[:m]), r),
-        lambda: _case("pca, digits n=1797", digits,
-                      lambda: pca(digits).embedding,
-                      lambda: PCA(2).fit_transform(digits), r),
-    ]
-    names = ["isomap", "lle", "laplacian eigenmaps", "classical mds", "metric mds (smacof)",
-             "pca"]
-    rows = [case() for name, case in zip(names, cases, strict=True)
-            if args.only is None or args.only in name]
+
+    def roll(seed: int) -> np.ndarray:
+        return make_swiss_roll(n, random_state=seed)[0]
+
+    def subset(size: int) -> Any:
+        return lambda seed: digits[np.random.default_rng(seed).permutation(len(digits))[:size]]
+
+    cases = {
+        "isomap": lambda: _case(
+            f"isomap, swiss roll n={n}, k=10", roll,
+            lambda x: isomap(x, n_neighbors=10).embedding,
+            lambda x: Isomap(n_neighbors=10).fit_transform(x), "sklearn Isomap",
+            disparity=True),
+        "lle": lambda: _case(
+            f"lle, swiss roll n={n}, k=10", roll,
+            lambda x: lle(x, n_neighbors=10).embedding,
+            lambda x: LocallyLinearEmbedding(n_neighbors=10, random_state=0).fit_transform(x),
+            "sklearn LocallyLinearEmbedding"),
+        "laplacian eigenmaps": lambda: _case(
+            f"laplacian eigenmaps, swiss roll n={n}, k=10", roll,
+            lambda x: laplacian_eigenmaps(x, n_neighbors=10).embedding,
+            lambda x: SpectralEmbedding(n_neighbors=10, random_state=0).fit_transform(x),
+            "sklearn SpectralEmbedding"),
+        "classical mds": lambda: _case(
+            f"classical mds, digits n={m}", subset(m), lambda x: mds(x).embedding,
+            lambda x: ClassicalMDS().fit_transform(x), "sklearn ClassicalMDS"),
+        "metric mds (smacof)": lambda: _case(
+            f"metric mds (smacof), digits n={m}", subset(m),
+            lambda x: mds(x, metric=True).embedding,
+            lambda x: MDS(init="classical_mds", n_init=1, random_state=0).fit_transform(x),
+            'sklearn MDS(init="classical_mds", n_init=1)'),
+        "pca": lambda: _case("pca, digits n=1500", subset(1500), lambda x: pca(x).embedding,
+                             lambda x: PCA(2).fit_transform(x), "sklearn PCA"),
+    }
+    for name, case in cases.items():
+        if args.only is None or args.only in name:
+            case()
     from _embedding_tsne import big_run, case_tsne  # noqa: PLC0415
 
     if args.only is None or args.only in "t-sne tsne":
-        rows += case_tsne(r, args.quick)
-    print_ratio_table(rows, r)
+        case_tsne(args.quick)
+    report(FAMILY)
     if args.big:
         big_run(args.big)
 

@@ -1,27 +1,34 @@
-"""The registration family against its peers, side by side in one run.
+"""The registration family against its peers, through the harness of ``_common.compare``.
 
-Prints one table: for each case our time, the peer's time on the same data, their ratio
-(ours / peer: below 1 is faster), and the rotation error each ends with (degrees, against the
-known rotation), so that speed is never bought with accuracy unseen. Every time is the median
-of --repeats runs.
+Every row: ours and the peer alternately after a warm-up, seeds 0..2 (the data and the
+rotation change with the seed), the median and range of the times, the threads each side
+was allowed and the accuracy of every seed (rotation error in degrees against the known
+rotation, translation error, iterations). ``bench/run.py`` runs this file once per thread
+policy.
 
-    python bench/registration.py [--repeats 3] [--quick]
+    python bench/registration.py [--quick]
 
-Cases: ICP point_to_point, 100,000 ↔ 100,000 points (two independent samplings of a lumpy
-closed surface, the target turned by 10° and shifted, 0.2% noise), 30 iterations, against a
-plain numpy + ``cKDTree`` loop (query with ``workers=-1``, Kabsch by SVD, compose); both with
-the same correspondence bound. Open3D's ``registration_icp`` is the reference peer; it is
-not installed in the test environment (it needs the ``bench`` extra and
-``libusb-1.0-0``), and its row is printed only when ``import open3d`` works. A benchmark never
-asserts.
+Cases:
+
+- ICP point_to_point, 10,000 and 100,000 points a side (``--quick``: 10,000): two
+  independent samplings of a lumpy closed surface, the target turned by 10° about a random
+  axis, shifted, with 0.2 % noise, correspondence bound 0.2; 30 iterations on both sides
+  (no early stop: ours ``tolerance=0``, Open3D's relative fitness and RMSE 0), and each with
+  its default stopping rule (at most 30 iterations; ours ``tolerance=1e-6``, Open3D 1e-6 /
+  1e-6), against Open3D's ``registration_icp``; and the 30 iterations against a plain numpy
+  + ``cKDTree`` loop (query with the policy's ``workers``, Kabsch by SVD, compose);
+- rigid CPD with scale (``_reg_cpd``) against pycpd, and its memory bound;
+- FPFH RANSAC, alone and refined (``_reg_ransac``), against Open3D's tutorial pipeline.
+
+A benchmark never asserts.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
-import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -30,12 +37,13 @@ from scipy.spatial.transform import Rotation
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from _common import angle_deg, blob, print_ratio_table, timed, timed_pair  # noqa: E402
+from _common import angle_deg, apply_policy, blob, compare, report, workers  # noqa: E402
 
 from algorithms.registration import icp  # noqa: E402
 
 ITERATIONS = 30
 ANGLE = 10.0
+MAX_DIST = 0.2
 
 
 def plain_icp(src: np.ndarray, dst: np.ndarray, iterations: int, max_dist: float
@@ -45,7 +53,7 @@ def plain_icp(src: np.ndarray, dst: np.ndarray, iterations: int, max_dist: float
     transform = np.eye(4)
     moved = src
     for _ in range(iterations):
-        dist, idx = tree.query(moved, workers=-1, distance_upper_bound=max_dist)
+        dist, idx = tree.query(moved, workers=workers(), distance_upper_bound=max_dist)
         keep = np.isfinite(dist)
         x, y = moved[keep], dst[idx[keep]]
         xm, ym = x.mean(axis=0), y.mean(axis=0)
@@ -60,69 +68,96 @@ def plain_icp(src: np.ndarray, dst: np.ndarray, iterations: int, max_dist: float
     return transform
 
 
-def case_icp(n: int, repeats: int) -> list[tuple[str, float, float, str, str]]:
-    rng = np.random.default_rng(0)
-    src = blob(n, 1)
-    rot = Rotation.from_rotvec(np.radians(ANGLE) * np.array([1.0, 2.0, 3.0]) / np.sqrt(14))
-    truth = rot.as_matrix()
-    dst = blob(n, 2) @ truth.T + [0.05, -0.03, 0.02] + rng.normal(0.0, 0.002, (n, 3))
-    max_dist = 0.2
+def icp_pair(n: int, seed: int) -> dict[str, Any]:
+    """Source, target and the true transform of the ICP case for one seed."""
+    rng = np.random.default_rng(seed)
+    axis = rng.standard_normal(3)
+    truth = Rotation.from_rotvec(np.radians(ANGLE) * axis / np.linalg.norm(axis)).as_matrix()
+    shift = rng.uniform(-0.05, 0.05, 3)
+    src = blob(n, 2 * seed + 1)
+    dst = blob(n, 2 * seed + 2) @ truth.T + shift + rng.normal(0.0, 0.002, (n, 3))
+    return {"src": src, "dst": dst, "rot": truth, "shift": shift}
 
-    def ours(tol: float) -> np.ndarray:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # max_iterations reached is expected here
-            res = icp(src, dst, max_iterations=ITERATIONS, tolerance=tol,
-                      max_correspondence_distance=max_dist)
-        return res
 
-    rows = []
-    for tol, label in ((0.0, "30 iterations"), (1e-6, "Open3D's default stop 1e-6")):
-        # alternate ours and the loop, so that a busy machine slows both alike
-        ours_t, res, peer_t, peer_tf = timed_pair(
-            lambda tol=tol: ours(tol), lambda: plain_icp(src, dst, ITERATIONS, max_dist),
-            repeats)
-        peer_err = f"{angle_deg(peer_tf[:3, :3], truth):.4f}°"
-        rows.append((f"ICP p2p {n:,}↔{n:,}, {label} ({res.iterations} run) vs numpy+cKDTree "
-                     f"loop (30)", ours_t, peer_t,
-                     f"{angle_deg(res.rotation, truth):.4f}°", peer_err))
+def pose_error(d: dict[str, Any], tf: Any) -> dict[str, float]:
+    """Rotation error (degrees) and translation error of a 4 × 4 transform, and its
+    iterations when the side reports them (``(transform, iterations)``)."""
+    it = None
+    if isinstance(tf, tuple):
+        tf, it = tf
+    tf = np.asarray(tf)
+    out = {"rot°": angle_deg(tf[:3, :3], d["rot"]),
+           "|Δt|": float(np.linalg.norm(tf[:3, 3] - d["shift"]))}
+    if it is not None:
+        out["it"] = float(it)
+    return out
+
+
+def case_icp(n: int) -> None:
     try:
         import open3d as o3d  # noqa: PLC0415 - optional peer
     except ImportError:
-        print("note: Open3D is not installed; its registration_icp row needs the bench extra "
-              "(pip install '.[bench]', apt libusb-1.0-0). Issue #4 measured it at 1.6 s "
-              "for this case on the reference machine.")
-    else:
-        a, b = o3d.geometry.PointCloud(), o3d.geometry.PointCloud()
-        a.points, b.points = o3d.utility.Vector3dVector(src), o3d.utility.Vector3dVector(dst)
-        crit = o3d.pipelines.registration.ICPConvergenceCriteria(max_iteration=ITERATIONS)
-        est = o3d.pipelines.registration.TransformationEstimationPointToPoint()
+        o3d = None
+        print("note: Open3D is not installed (the bench extra): its ICP rows are skipped")
 
-        def o3d_run() -> np.ndarray:
-            return np.asarray(o3d.pipelines.registration.registration_icp(
-                a, b, max_dist, np.eye(4), est, crit).transformation)
+    def ours(tol: float) -> Any:
+        def run(d: dict[str, Any]) -> Any:
+            res = icp(d["src"], d["dst"], max_iterations=ITERATIONS, tolerance=tol,
+                      max_correspondence_distance=MAX_DIST)
+            return res.transform, res.iterations
+        return run
 
-        o3d_t, o3d_tf = timed(o3d_run, repeats)
-        ours_t, res = timed(lambda: ours(1e-6), repeats)
-        rows.append((f"ICP p2p {n:,}↔{n:,} vs Open3D registration_icp", ours_t, o3d_t,
-                     f"{angle_deg(res.rotation, truth):.4f}°",
-                     f"{angle_deg(o3d_tf[:3, :3], truth):.4f}°"))
-    return rows
+    def data(seed: int) -> dict[str, Any]:
+        d = icp_pair(n, seed)
+        if o3d is not None:  # the clouds are Open3D's input format, made outside the timing
+            a, b = o3d.geometry.PointCloud(), o3d.geometry.PointCloud()
+            a.points = o3d.utility.Vector3dVector(d["src"])
+            b.points = o3d.utility.Vector3dVector(d["dst"])
+            d["o3d"] = (a, b)
+        return d
+
+    label = f"ICP p2p {n:,}↔{n:,}"
+    kd = "kd-tree workers -1 from 8,192 points (1 core under the 1-thread policy)"
+    if o3d is not None:
+        reg = o3d.pipelines.registration
+        est = reg.TransformationEstimationPointToPoint()
+
+        def o3d_icp(rel: float) -> Any:
+            crit = reg.ICPConvergenceCriteria(relative_fitness=rel, relative_rmse=rel,
+                                              max_iteration=ITERATIONS)
+
+            def run(d: dict[str, Any]) -> Any:
+                a, b = d["o3d"]
+                return np.asarray(reg.registration_icp(a, b, MAX_DIST, np.eye(4), est,
+                                                       crit).transformation)
+            return run
+
+        compare("registration", f"{label}, 30 iterations", data, ours(0.0), o3d_icp(0.0),
+                pose_error, peer_name="Open3D registration_icp", ours_threads=kd,
+                peer_threads="TBB (open3d.utility.set_max_threads)")
+        compare("registration", f"{label}, default stop 1e-6 (≤ 30 it.)", data, ours(1e-6),
+                o3d_icp(1e-6), pose_error, peer_name="Open3D registration_icp",
+                ours_threads=kd, peer_threads="TBB (open3d.utility.set_max_threads)")
+    compare("registration", f"{label}, 30 iterations", data, ours(0.0),
+            lambda d: plain_icp(d["src"], d["dst"], ITERATIONS, MAX_DIST), pose_error,
+            peer_name="numpy+cKDTree loop", ours_threads=kd,
+            peer_threads=f"cKDTree workers {workers()}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--quick", action="store_true", help="a tenth of the sizes")
+    parser.add_argument("--quick", action="store_true", help="the small sizes only")
     args = parser.parse_args()
-    k = 10 if args.quick else 1
-    rows = case_icp(100_000 // k, args.repeats)
+    apply_policy()
+    for n in (10_000,) if args.quick else (10_000, 100_000):
+        case_icp(n)
     from _reg_cpd import case_cpd  # noqa: PLC0415
 
-    rows += case_cpd(args.repeats, args.quick)
+    case_cpd(args.quick)
     from _reg_ransac import case_ransac  # noqa: PLC0415
 
-    rows += case_ransac(args.repeats, args.quick)
-    print_ratio_table(rows, args.repeats)
+    case_ransac(args.quick)
+    report("registration")
 
 
 if __name__ == "__main__":

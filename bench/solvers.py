@@ -1,8 +1,10 @@
 """The Laplacian core against libigl, and the sparse solver backends, in one run.
 
-Prints three tables, every time the median of --repeats runs on the same data:
+1. and 3. go through ``_common.compare`` (ours and the peer alternately after a warm-up, on
+the meshes of seeds 0..2, median and range, the threads allowed); 2. is a table of its own
+(ours against ours, the median of 3):
 
-1. assembly on a 50,176-vertex mesh (ours and the peer called alternately): our cotangent
+1. assembly on a 50,176-vertex mesh: our cotangent
    Laplacian vs ``igl.cotmatrix`` (we return
    ``L = D - W``, libigl ``W - D``: the accuracy column is ``max |ours + igl|``), our mass
    matrices vs ``igl.massmatrix`` (``max |ours - igl|``); ratio = ours / igl (below 1: we are
@@ -14,7 +16,7 @@ Prints three tables, every time the median of --repeats runs on the same data:
 3. the ARAP local step: :func:`batched_rotations` on 50,176 3×3 matrices vs
    ``np.linalg.svd`` + the reflection fix, with the largest difference of the rotations.
 
-    python bench/solvers.py [--repeats 5] [--quick]
+    python bench/solvers.py [--quick]
 
 The mesh is a jittered wavy grid (many obtuse triangles, some negative cotangent weights),
 made in code. A benchmark never asserts.
@@ -34,29 +36,38 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 import igl  # noqa: E402  libigl: the peer
-from _common import backend_timings, print_table, timed_pair, wavy_grid  # noqa: E402
+from _common import (  # noqa: E402
+    apply_policy,
+    backend_timings,
+    compare,
+    print_table,
+    report,
+    wavy_grid,
+)
 
 from algorithms.core.laplacian import cotangent_laplacian, mass_matrix  # noqa: E402
 from algorithms.core.linalg import batched_rotations, procrustes  # noqa: E402
 from algorithms.core.linsolve import Factor  # noqa: E402
 from algorithms.core.mesh import boundary_loops  # noqa: E402
 
+FAMILY = "solvers"
 
-def assembly(v: np.ndarray, f: np.ndarray, r: int) -> None:
-    rows = []
-    ours_t, ours, peer_t, peer = timed_pair(lambda: cotangent_laplacian(v, f),
-                                            lambda: igl.cotmatrix(v, f), r)
-    rows.append(("cotangent Laplacian vs igl.cotmatrix", f"{ours_t * 1e3:.1f}",
-                 f"{peer_t * 1e3:.1f}", f"{ours_t / peer_t:.2f}", f"{abs(ours + peer).max():.1e}"))
+
+def assembly(nx: int) -> None:
+    def mesh(seed: int) -> tuple[np.ndarray, np.ndarray]:
+        return wavy_grid(nx, seed)
+
+    compare(FAMILY, f"cotangent Laplacian, {nx * nx:,} vertices", mesh,
+            lambda m: cotangent_laplacian(*m), lambda m: igl.cotmatrix(*m), None,
+            agreement=lambda _m, a, b: {"max |ours + igl|": float(abs(a + b).max())},
+            peer_name="igl.cotmatrix")
     for kind, igl_type in (("voronoi", igl.MASSMATRIX_TYPE_VORONOI),
                            ("barycentric", igl.MASSMATRIX_TYPE_BARYCENTRIC)):
-        ours_t, ours, peer_t, peer = timed_pair(lambda kind=kind: mass_matrix(v, f, kind),
-                                                lambda t=igl_type: igl.massmatrix(v, f, t), r)
-        rows.append((f"mass matrix ({kind}) vs igl.massmatrix", f"{ours_t * 1e3:.1f}",
-                     f"{peer_t * 1e3:.1f}", f"{ours_t / peer_t:.2f}",
-                     f"{abs(ours - peer).max():.1e}"))
-    print_table(f"1. assembly, {len(v):,} vertices, {len(f):,} faces (median of {r})",
-                ("case", "ours (ms)", "igl (ms)", "ratio", "max abs diff"), rows)
+        compare(FAMILY, f"mass matrix ({kind}), {nx * nx:,} vertices", mesh,
+                lambda m, kind=kind: mass_matrix(*m, kind),
+                lambda m, t=igl_type: igl.massmatrix(*m, t), None,
+                agreement=lambda _m, a, b: {"max |ours - igl|": float(abs(a - b).max())},
+                peer_name="igl.massmatrix")
 
 
 def solvers(v: np.ndarray, f: np.ndarray, r: int) -> None:
@@ -75,28 +86,26 @@ def solvers(v: np.ndarray, f: np.ndarray, r: int) -> None:
                                                  "rel. residual"), rows, left=(0, 3))
 
 
-def rotations(n: int, r: int) -> None:
-    s = np.random.default_rng(2).standard_normal((n, 3, 3))
-    ours_t, ours, peer_t, peer = timed_pair(
-        lambda: batched_rotations(s), lambda: procrustes(np.swapaxes(s, 1, 2)).rotation, r)
-    print_table(f"3. ARAP local step, {n:,} 3×3 matrices (median of {r})",
-                ("case", "ours (ms)", "svd (ms)", "ratio", "max abs diff"),
-                [("batched_rotations vs np.linalg.svd + reflection fix", f"{ours_t * 1e3:.1f}",
-                  f"{peer_t * 1e3:.1f}", f"{ours_t / peer_t:.2f}",
-                  f"{abs(ours - peer).max():.1e}")])
+def rotations(n: int) -> None:
+    compare(FAMILY, f"ARAP local step, {n:,} 3×3 matrices",
+            lambda seed: np.random.default_rng(seed).standard_normal((n, 3, 3)),
+            batched_rotations, lambda s: procrustes(np.swapaxes(s, 1, 2)).rotation, None,
+            agreement=lambda _s, a, b: {"max |Δ|": float(abs(a - b).max())},
+            peer_name="np.linalg.svd + reflection fix")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--quick", action="store_true", help="a tenth of the vertices")
     args = parser.parse_args()
+    apply_policy()
     nx = 71 if args.quick else 224                        # 5,041 or 50,176 vertices
+    assembly(nx)
+    rotations(nx * nx)
+    report(FAMILY)
+    print()
     v, f = wavy_grid(nx)
-    print("ratio = ours / peer (below 1: we are faster)\n")
-    assembly(v, f, args.repeats)
-    solvers(v, f, args.repeats)
-    rotations(len(v), args.repeats)
+    solvers(v, f, 3)
 
 
 if __name__ == "__main__":
