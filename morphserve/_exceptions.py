@@ -17,6 +17,7 @@ callers catch exactly what they mean::
           ├── InvalidInput         422 invalid-input  (also a ValueError)
           ├── IdempotencyConflict  422 idempotency-conflict
           ├── MalformedBody        400 malformed-body
+          ├── BadRequest           400 bad-request  (not valid HTTP)
           ├── Unauthorized         401 unauthorized
           ├── NotFound             404 not-found, and any other 404 without a known slug
           │    ├── NoSuchProcess   404 no-such-process
@@ -25,10 +26,12 @@ callers catch exactly what they mean::
           │    └── ResultNotReady  404 result-not-ready
           ├── MethodNotAllowed     405 method-not-allowed
           ├── NotAcceptable        406 not-acceptable
+          ├── RequestTimeout       408 request-timeout
           ├── JobDismissed         410 job-dismissed
           ├── PayloadTooLarge      413 payload-too-large
           ├── UnsupportedMediaType 415 unsupported-media-type
           ├── QueueFull            429 queue-full
+          ├── HeaderTooLarge       431 header-too-large
           ├── JobFailed            job-failed: the job ran and raised
           │    ├── TimeLimitExceeded  time-limit-exceeded: the job ran out of time
           │    └── WorkerLost      worker-lost: its worker died more often than allowed
@@ -56,6 +59,8 @@ import httpx
 
 __all__ = [
     "APIError",
+    "BadRequest",
+    "HeaderTooLarge",
     "IdempotencyConflict",
     "InsufficientStorage",
     "InternalError",
@@ -73,6 +78,7 @@ __all__ = [
     "PayloadTooLarge",
     "ProtocolError",
     "QueueFull",
+    "RequestTimeout",
     "ResultNotReady",
     "ServiceUnavailable",
     "TimeLimitExceeded",
@@ -233,6 +239,12 @@ class MalformedBody(APIError):
     http_status = 400
 
 
+class BadRequest(APIError):
+    """The request was not valid HTTP (a proxy or the SDK's transport garbled it)."""
+
+    slug = "bad-request"
+
+
 class Unauthorized(APIError):
     """No API key, or a wrong one (set ``api_key`` or ``MORPHSERVE_API_KEY``)."""
 
@@ -290,6 +302,20 @@ class JobDismissed(APIError):
 
     slug = "job-dismissed"
     http_status = 410
+
+
+class RequestTimeout(APIError):
+    """The request's head or body reached the service too slowly; it closed the connection."""
+
+    slug = "request-timeout"
+    http_status = 408
+
+
+class HeaderTooLarge(APIError):
+    """The request's headers exceed the service's limit (64 KiB by default)."""
+
+    slug = "header-too-large"
+    http_status = 431
 
 
 class PayloadTooLarge(APIError):

@@ -103,6 +103,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     install_handlers(app)
     app.add_middleware(AuthMiddleware, keyring=keyring)
     app.add_middleware(HtmlMiddleware)  # outside auth: renders its 401 too
+    app.add_middleware(metrics.HttpMetrics)  # outermost: counts every answer
     app.include_router(landing.router)
     app.include_router(apidocs.router)
     app.include_router(processes.router)

@@ -10,6 +10,7 @@ raised                          answered
 ``algorithms`` InvalidInputError  422 ``invalid-input`` naming the input (``field``)
 ``RequestValidationError``      422 ``invalid-input`` (query/path parameters)
 store's ``StorageFull``         507 ``insufficient-storage``, with ``free_bytes``
+Starlette ``ClientDisconnect``   nothing (the client is gone); one INFO line
 Starlette ``HTTPException``     404 ``not-found``, 405 ``method-not-allowed``, ...
 anything else                   500 ``internal-error`` (a bug; logged with its traceback)
 ==============================  ===========================================================
@@ -28,8 +29,9 @@ from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import HTMLResponse
+from fastapi.responses import HTMLResponse, Response
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.requests import ClientDisconnect
 
 from algorithms.core.errors import GeometryError
 from service.jobs.store import StorageFull
@@ -150,6 +152,13 @@ def install_handlers(app: FastAPI) -> None:
         body = problem_body("insufficient-storage", exc.strerror or "The data dir is full.",
                             instance=str(request.url.path))
         return problem_response({**body, "free_bytes": exc.free_bytes}, {"Retry-After": "30"})
+
+    @app.exception_handler(ClientDisconnect)
+    async def _gone(request: Request, exc: ClientDisconnect) -> Response:
+        """The client went away, or was cut off (service.server), before its body ended:
+        nobody to answer, nothing to log but a line."""
+        log.info("%s %s: the client's body ended early", request.method, request.url.path)
+        return Response(status_code=400)  # never sent: the connection is gone
 
     @app.exception_handler(GeometryError)
     async def _geometry(request: Request, exc: GeometryError) -> JSONResponse:

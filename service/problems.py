@@ -81,6 +81,15 @@ PROBLEMS: dict[str, ProblemType] = {
                     "The service's data dir is full: it stores no new job (nor, while no "
                     "room is left, any change) until space is freed. Reading jobs and "
                     "results still works; `free_bytes` says how much room is left."),
+        ProblemType("bad-request", 400, "Bad request",
+                    "The request is not valid HTTP/1.1 (its request line, headers or framing); "
+                    "the connection is closed."),
+        ProblemType("request-timeout", 408, "Request timeout",
+                    "The request's head, or its body, arrived too slowly; the connection is "
+                    "closed."),
+        ProblemType("header-too-large", 431, "Request header fields too large",
+                    "The request's head (request line and headers) exceeds the service's limit; "
+                    "the connection is closed."),
         ProblemType("unauthorized", 401, "Unauthorized", "A valid API key is required."),
         ProblemType("service-unavailable", 503, "Service unavailable",
                     "The service is starting, has no workers, or its data dir is full "

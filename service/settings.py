@@ -98,10 +98,12 @@ class Settings(BaseSettings):
     fast_path_bytes: int = Field(
         4 * 2**20,
         ge=0,
-        description="Jobs of fast-path processes (closed forms) with inputs up to this size run "
-        "in the service's own threads, skipping the scheduler's ~10 ms round trip. 0: never.",
+        description="Jobs of fast-path processes (closed forms) with inputs up to this size (and "
+        "an estimated cost up to fast_path_cost) run in the fast path's worker processes, "
+        "skipping the scheduler's ~10 ms round trip. 0: never.",
     )
-    fast_path_threads: int = Field(1, ge=1, description="Threads of the fast path.")
+    fast_path_threads: int = Field(1, ge=1, description="Worker processes of the fast path "
+                                   "(service.jobs.fastpool).")
     spool_bytes: int = Field(
         8 * 2**20,
         ge=0,
@@ -138,6 +140,41 @@ class Settings(BaseSettings):
         "Unset: links are built from each request (its Host and any X-Forwarded-Proto, "
         "X-Forwarded-Host and X-Forwarded-Prefix headers), and callbacks carry links "
         "relative to the service's root.",
+    )
+    fast_path_cost: float = Field(
+        2e6,
+        ge=0,
+        description="Largest estimated cost of a job run on the fast path: the numbers in its "
+        "array inputs times the square of the points' dimension, a mesh's or graph's numbers "
+        "times the square root of its vertex or node count (see "
+        "service.routes.processes.job_cost). Costlier jobs go to the workers.",
+    )
+    fast_path_seconds: float = Field(
+        1.0,
+        gt=0,
+        description="Longest a job may run on the fast path, in seconds: one still running "
+        "then has its worker process killed and replaced and is run again on the Dask "
+        "workers. A small job waits at most this long behind each job ahead of it.",
+    )
+    dashboard_address: str | None = Field(
+        None,
+        description="Address of the embedded Dask scheduler's HTTP server (its dashboard, "
+        "with bokeh installed, and its JSON and Prometheus routes), such as 127.0.0.1:8787. "
+        "Unset: the embedded scheduler and workers serve no HTTP; they speak Dask's protocol "
+        "over mutual TLS, with a certificate made at start-up, to the service only.",
+    )
+    max_header_bytes: int = Field(
+        64 * 2**10, ge=1024, description="Largest request head (request line and headers), "
+        "in bytes (431 above)."
+    )
+    header_timeout: float = Field(
+        20.0, gt=0, description="Seconds a client may take to send a request's head, from "
+        "its first byte (408, and the connection closed, above). A connection that sends "
+        "nothing at all is closed after as long."
+    )
+    body_timeout: float = Field(
+        20.0, gt=0, description="Seconds a request body may go without a byte arriving while "
+        "the service waits for it (408, and the connection closed, above)."
     )
 
 

@@ -7,13 +7,19 @@ so work survives a restarting API.
 
 Fast path: a round trip through the scheduler costs ~11 ms on a 2-core machine, more than a
 closed-form job on a thousand points takes. Jobs of processes marked ``fast_path`` whose inputs
-are at most ``fast_path_bytes`` run on a small thread pool inside the service instead. They are
-recorded, reported, dismissable and time-limited exactly like the others; after a restart they
-are resubmitted through Dask, never in-process, so a job that crashes the service cannot do it
-twice. A fast-path job whose client waits for it (``Prefer: wait``) runs before its row is
-written, and is then recorded finished in one commit (:meth:`Engine.run_first`): the client
-hears of it only after that commit, and a job that takes longer than the wait is recorded
-accepted and goes on as any other.
+are at most ``fast_path_bytes`` and whose estimated cost is at most ``fast_path_cost`` (the
+route's estimate: the inputs' numbers times the square of their dimension, more for meshes
+and graphs) run on the service's own small pool of worker processes
+(:class:`~service.jobs.fastpool.FastPool`) instead, never in the service's process. There a
+job may run for ``fast_path_seconds`` at most: one that runs longer has its worker killed
+and replaced and goes on on the Dask workers, so a small job waits behind a big one for that
+long at most. A fast job's time limit and dismissal kill its worker too: a job reported
+failed or dismissed uses no CPU any more. They are recorded, reported, dismissable and
+time-limited exactly like the others; after a restart they are resubmitted through Dask. A
+fast-path job whose client waits for it (``Prefer: wait``) runs before its row is written,
+and is then recorded finished in one commit (:meth:`Engine.run_first`): the client hears of
+it only after that commit, and a job that takes longer than the wait is recorded accepted
+and goes on as any other.
 
 For every job the engine keeps a :class:`_Handle` and a watcher task that records the outcome
 in the store and wakes the requests waiting on it (``Prefer: wait``). Progress events
@@ -32,7 +38,6 @@ import signal
 import threading
 import time
 from collections.abc import Awaitable, Callable, Iterator
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -40,8 +45,10 @@ import dask
 from distributed import Client, Event, LocalCluster, WorkerPlugin, fire_and_forget
 from distributed.client import Future, FutureCancelledError
 from distributed.scheduler import KilledWorker
+from distributed.security import Security
 
-from service.jobs.runner import TOPIC, Reporter, cancel_event_name, run_job
+from service.jobs.fastpool import FastPool
+from service.jobs.runner import TOPIC, cancel_event_name, run_job
 from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobStore
 from service.problems import problem_body
@@ -89,6 +96,8 @@ class _Handle:
     """The fast path's dismissal flag."""
     started: float | None = None
     marked_running: bool = False
+    stored: bool = True
+    """The job's row exists (false while :meth:`Engine.run_first` writes it)."""
     recording: bool = False
     """The outcome is being committed: the handle stays in the table until it is durable."""
 
@@ -120,29 +129,51 @@ class Engine:
         self._jobs: dict[str, _Handle] = {}
         self._unrecorded = 0
         """Fast-path jobs running before their row is written (:meth:`run_first`)."""
+        self._expected: dict[str, asyncio.Future[None]] = {}
+        """Jobs whose row is being written and which are about to be submitted
+        (:meth:`expect`): a request that reads the row meanwhile waits for the job."""
         self._tasks: set[asyncio.Task[Any]] = set()
-        self._pool = ThreadPoolExecutor(max_workers=settings.fast_path_threads,
-                                        thread_name_prefix="morphserve-fast")
+        self._pool = FastPool(settings.fast_path_threads, budget=settings.fast_path_seconds,
+                              test_processes=settings.test_processes)
         self._closing = False
         self.on_finish: list[Callable[[JobRecord, Outcome], Any]] = []
         """Called with the job and its outcome when it ends (subscriber callbacks)."""
         self.on_start: list[Callable[[JobRecord], Any]] = []
         """Called with the job when it starts running."""
+        self.on_run: list[Callable[[JobRecord, str], Any]] = []
+        """Called with the job and its path, ``"fast"`` or ``"workers"``, when it is given to
+        the fast path or to Dask (a job the fast path gives back: once for each)."""
 
     # -- life cycle --------------------------------------------------------------------------
     async def start(self) -> None:
         dask.config.set({"distributed.scheduler.allowed-failures":
                          self.settings.allowed_failures, **QUIET_MONITORING})
         if self.settings.scheduler:
+            # TLS, if the scheduler wants it, from Dask's own configuration
+            # (DASK_DISTRIBUTED__COMM__TLS__*: docs/security.md)
+            if self.settings.api_keys_file and not self.settings.scheduler.startswith("tls://"):
+                log.warning("API keys are on, but the scheduler %s is not reached over TLS: "
+                            "whoever reaches it can run code on its workers (docs/security.md)",
+                            self.settings.scheduler)
             self.client = await Client(self.settings.scheduler, asynchronous=True)
         else:
+            # The embedded scheduler runs whatever it is sent: only holders of this in-memory
+            # certificate (the service and the workers it spawns) may talk to it or to the
+            # workers, over mutual TLS. Its HTTP server (job keys, the dashboard) only if asked.
+            dashboard = self.settings.dashboard_address
+            if dashboard is None:
+                dask.config.set({"distributed.scheduler.http.routes": [],
+                                 "distributed.worker.http.routes": []})
             with _children_ignore_sigint():
                 self.cluster = await LocalCluster(
                     n_workers=self.settings.workers, threads_per_worker=1, processes=True,
-                    asynchronous=True, dashboard_address=None, scheduler_port=0,
-                    host="127.0.0.1", memory_limit=self.settings.worker_memory_limit,
+                    asynchronous=True, dashboard_address=dashboard, scheduler_port=0,
+                    host="127.0.0.1", protocol="tls://", security=Security.temporary(),
+                    memory_limit=self.settings.worker_memory_limit,
                     silence_logs=logging.ERROR)
-            self.client = await Client(self.cluster, asynchronous=True)
+            if dashboard is None:
+                self.cluster.scheduler.http_server.stop()  # Dask always starts one
+            self.client = await Client(self.cluster, asynchronous=True)  # its security too
         self.client.subscribe_topic(TOPIC, self._on_event)
         await self.client.register_plugin(WarmUp(), name="morphserve-warm-up")
         await self.recover()
@@ -181,6 +212,11 @@ class Engine:
         except Exception:  # scheduler gone
             return 0
 
+    @property
+    def fast_path_ready(self) -> bool:
+        """The fast path has a worker process up: fast jobs may be given to it."""
+        return self._pool.ready
+
     # -- submission --------------------------------------------------------------------------
     def submit(self, job: JobRecord, payload: dict[str, Any] | str, *,
                fast: bool = False) -> None:
@@ -188,10 +224,18 @@ class Engine:
         Dask. Returns at once; :meth:`wait` waits."""
         handle = _Handle(job, asyncio.get_running_loop().create_future())
         self._jobs[job.id] = handle
+        self.forget(job.id)  # here now: who waited for it to come waits for its end
         if fast and isinstance(payload, dict):
             self._spawn(self._run_fast(handle, payload))
             return
+        self._submit_dask(handle, payload)
+
+    def _submit_dask(self, handle: _Handle, payload: dict[str, Any] | str) -> None:
+        """Send the job of ``handle`` to the Dask workers and watch it there."""
         assert self.client is not None, "engine not started"
+        job = handle.job
+        for callback in self.on_run:
+            callback(job, "workers")
         persist = self.settings.scheduler is not None
         # Dask hands the keywords it does not take itself (key, pure, ...) to run_job
         handle.future = self.client.submit(
@@ -205,7 +249,9 @@ class Engine:
 
     async def recover(self) -> None:
         """Finish what a previous run of the service left: complete rows whose outputs a
-        worker wrote, resubmit the others (through Dask)."""
+        worker wrote, resubmit the others (through Dask). Also starts the fast path's
+        worker processes (they come up in the background)."""
+        self._pool.start()  # the fast path's workers start meanwhile, in the background
         jobs = self.store.unfinished()
         resubmitted = 0
         for job in jobs:
@@ -219,14 +265,35 @@ class Engine:
         if jobs:
             log.warning("recovered %d unfinished jobs, %d resubmitted", len(jobs), resubmitted)
 
+    def expect(self, job_id: str) -> None:
+        """Announce the job ``job_id``, whose row is about to be written and which will then
+        be :meth:`submit`-ted (or :meth:`forget`-ten if the row is not written). From the
+        moment its row is readable until it is submitted, the job is in the store but not
+        yet here: a request that finds the row then (an idempotent retry racing in) must
+        wait for the job, not read the row as it is and answer "still running"."""
+        self._expected[job_id] = asyncio.get_running_loop().create_future()
+
+    def forget(self, job_id: str) -> None:
+        """The announced job will not be submitted (its row was not written)."""
+        expected = self._expected.pop(job_id, None)
+        if expected is not None and not expected.done():
+            expected.set_result(None)
+
     async def wait(self, job_id: str, timeout: float) -> Outcome | None:
         """The job's outcome if it ends within ``timeout`` seconds, else ``None`` (also when
-        the job is not running here, e.g. already finished: read the store then)."""
-        handle = self._jobs.get(job_id)
-        if handle is None:
-            return None
+        the job is not running here, e.g. already finished: read the store then). A job
+        announced by :meth:`expect` and not yet submitted is waited for too."""
+        loop = asyncio.get_running_loop()
+        until = loop.time() + timeout
+        expected = self._expected.get(job_id)
         try:
-            return await asyncio.wait_for(asyncio.shield(handle.outcome), timeout)
+            if expected is not None:
+                await asyncio.wait_for(asyncio.shield(expected), timeout)
+            handle = self._jobs.get(job_id)
+            if handle is None:
+                return None
+            return await asyncio.wait_for(asyncio.shield(handle.outcome),
+                                          max(0.0, until - loop.time()))
         except TimeoutError:
             return None
 
@@ -249,23 +316,32 @@ class Engine:
     # -- running and watching ----------------------------------------------------------------
     async def _run_fast(self, handle: _Handle, kwargs: dict[str, Any]) -> None:
         self._on_event((0.0, {"job": handle.job.id, "kind": "started"}))
-        await self._record(handle, await self._compute(handle, kwargs))
+        await self._finish_fast(handle, kwargs, await self._compute(handle, kwargs))
 
-    async def _compute(self, handle: _Handle, kwargs: dict[str, Any]) -> Outcome:
-        """Run a fast-path job on the pool; its outcome (the runner catches every error)."""
+    async def _finish_fast(self, handle: _Handle, kwargs: dict[str, Any],
+                           outcome: Outcome | None) -> None:
+        """Record how a fast-path job ended, or, when the fast path gave it back (``None``:
+        it ran past the fast path's budget, or lost its worker), run it on Dask."""
+        if outcome is not None:
+            await self._record(handle, outcome)
+        elif handle.cancel.is_set():  # dismissed (or timed out) while it was handed over
+            await self._record(handle, Outcome.dismissed())
+        elif self._jobs.get(handle.job.id) is handle:
+            self._submit_dask(handle, kwargs)
+
+    async def _compute(self, handle: _Handle, kwargs: dict[str, Any]) -> Outcome | None:
+        """Run a fast-path job on the pool: its outcome (the runner catches every error), or
+        ``None`` when it must run on Dask instead (:meth:`FastPool.run`)."""
         loop = asyncio.get_running_loop()
         job = handle.job
 
         def publish(event: dict[str, Any]) -> None:
-            if event["kind"] != "started":  # the start is noted by the caller, no thread hop
-                loop.call_soon_threadsafe(self._on_event, (0.0, event))
+            loop.call_soon_threadsafe(self._on_event, (0.0, event))
 
-        reporter = Reporter(job.id, job.time_limit, publish=publish,
-                            cancelled=handle.cancel.is_set)
-        return await loop.run_in_executor(
-            self._pool, lambda: run_job(job.id, job.process, kwargs, time_limit=job.time_limit,
-                                        test_processes=self.settings.test_processes,
-                                        reporter=reporter))
+        for callback in self.on_run:
+            callback(job, "fast")
+        return await self._pool.run(job.id, job.process, kwargs, time_limit=job.time_limit,
+                                    stop=handle.cancel, publish=publish)
 
     async def run_first(self, job: JobRecord, kwargs: dict[str, Any], wait: float,
                         record: Callable[[Outcome | None, float], Awaitable[JobRecord]]
@@ -277,35 +353,52 @@ class Engine:
         outcome in one commit; else ``record(None, started)`` stores it accepted and it goes
         on like any other job, its end recorded when it comes. Either way the client hears
         of the job only once it is recorded, so nothing is answered that a crash could lose,
-        and a finished fast job costs one fsync instead of two. Returns the stored record
-        and the outcome (``None`` while still running)."""
-        handle = _Handle(job, asyncio.get_running_loop().create_future(),
-                         started=time.monotonic())
+        and a finished fast job costs one fsync instead of two. A job the fast path gives
+        back (past its budget) is recorded accepted, goes on on Dask, and is waited for
+        there for what is left of ``wait``. Returns the stored record and the outcome
+        (``None`` while still running)."""
+        loop = asyncio.get_running_loop()
+        handle = _Handle(job, loop.create_future(), started=time.monotonic())
         started = time.time()
+        if job.time_limit is not None:
+            wait = min(wait, job.time_limit + GRACE)
+        until = loop.time() + wait
         self._unrecorded += 1
         try:
             compute = self._spawn(self._compute(handle, kwargs))
-            if job.time_limit is not None:
-                wait = min(wait, job.time_limit + GRACE)
             await asyncio.wait({compute}, timeout=wait)
-            if compute.done():
+            if compute.done() and compute.result() is not None:
                 outcome = compute.result()
                 stored = await record(outcome, started)
                 handle.job = stored
                 for callback in self.on_finish:
                     callback(stored, outcome)
                 return stored, outcome
-            stored = await record(None, started)
         finally:
             self._unrecorded -= 1
+        # Here before its row is readable: a request that finds the row (an idempotent
+        # retry) finds the job too, and waits for it.
+        handle.stored = False
+        self._jobs[job.id] = handle
+        try:
+            stored = await record(None, started)
+        except BaseException:
+            del self._jobs[job.id]
+            handle.cancel.set()  # nobody will hear of this job: stop it
+            raise
         handle.job = stored
-        self._jobs[stored.id] = handle
-        self._spawn(self._adopt(handle, compute))
-        return stored, None
+        handle.stored = True
+        self._spawn(self._adopt(handle, compute, kwargs))
+        if not compute.done():
+            return stored, None
+        # given back by the fast path: on Dask now, waited for there
+        outcome = await self.wait(stored.id, max(0.0, until - loop.time()))
+        return (self.store.get(stored.id) or stored), outcome
 
-    async def _adopt(self, handle: _Handle, compute: asyncio.Task[Outcome]) -> None:
+    async def _adopt(self, handle: _Handle, compute: asyncio.Task[Outcome | None],
+                     kwargs: dict[str, Any]) -> None:
         """Record the end of a job :meth:`run_first` stored while it was running."""
-        await self._record(handle, await compute)
+        await self._finish_fast(handle, kwargs, await compute)
 
     async def _watch(self, handle: _Handle) -> None:
         assert handle.future is not None
@@ -337,9 +430,13 @@ class Engine:
         started = time.time() - (time.monotonic() - handle.started) if handle.started else None
         try:
             if outcome.status is not JobStatus.DISMISSED:  # the route records a dismissal
-                await self.store.write(self.store.finish, job.id, outcome.status,
-                                       outcome.message, outcome.problem, outcome.outputs,
-                                       started=started)
+                applied = await self.store.write(self.store.finish, job.id, outcome.status,
+                                                 outcome.message, outcome.problem,
+                                                 outcome.outputs, started=started)
+                if applied is False:  # the row was final already: dismissed meanwhile
+                    row = self.store.get(job.id)
+                    if row is None or row.status is JobStatus.DISMISSED:
+                        outcome = Outcome.dismissed()
         finally:
             # Only now does the job leave the table: a request that arrives while the outcome
             # is being committed (an idempotent retry with Prefer: wait) waits for it here,
@@ -365,7 +462,7 @@ class Engine:
     def _on_event(self, event: tuple[float, dict[str, Any]]) -> None:
         _, msg = event
         handle = self._jobs.get(msg.get("job", ""))
-        if handle is None:
+        if handle is None or not handle.stored:
             return
         if msg.get("kind") == "started":
             handle.started = time.monotonic()
@@ -395,7 +492,8 @@ class Engine:
             now = time.monotonic()
             for handle in list(self._jobs.values()):
                 limit = handle.job.time_limit
-                if (handle.recording or handle.started is None or limit is None
+                if (handle.recording or not handle.stored or handle.started is None
+                        or limit is None
                         or now - handle.started < limit + GRACE):
                     continue
                 log.warning("job %s ignored its time limit of %g s; stopping it",

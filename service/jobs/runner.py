@@ -12,6 +12,9 @@ work, since Dask cannot stop a running Python function: it raises
 :class:`~algorithms.core.errors.Cancelled` when the job's ``distributed.Event`` is set or its
 deadline has passed. Progress is published with ``Worker.log_event`` on :data:`TOPIC`; the
 service subscribes to it.
+
+:func:`serve_fast` is the loop of a fast-path worker process (:mod:`service.jobs.fastpool`):
+the same :func:`run_job`, its tasks and progress passing over a pipe.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from service.jobs.status import Outcome
 from service.jobs.store import result_path, write_atomic
 from service.problems import geometry_error_problem, problem_body
 
-__all__ = ["TOPIC", "run_job", "cancel_event_name", "Reporter"]
+__all__ = ["TOPIC", "run_job", "cancel_event_name", "Reporter", "serve_fast"]
 
 log = logging.getLogger("morphserve.runner")
 
@@ -168,3 +171,38 @@ def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, *,
         log.exception("job %s (%s) failed", job_id, process_id)
         return Outcome.failed(problem_body(
             "job-failed", f"The algorithm failed: {type(exc).__name__}: {exc}"))
+
+
+def serve_fast(conn: Any, test_processes: bool = False) -> None:
+    """Run jobs sent over ``conn`` (a :class:`multiprocessing.connection.Connection`) until
+    it closes: the loop of one fast-path worker process.
+
+    It says ``("ready",)`` once, then takes tasks ``(job_id, process_id, inputs,
+    time_limit)`` one at a time and answers each with ``("event", event)`` for every
+    progress event and ``("outcome", outcome)`` at the end. Dismissal and time limits are
+    the parent's to enforce: it kills this process (a kill is the only stop that cannot be
+    ignored)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the service's Ctrl-C is the service's
+    conn.send(("ready",))
+
+    def publish(event: dict[str, Any]) -> None:
+        if event["kind"] != "started":  # the parent noted the start
+            try:
+                conn.send(("event", event))
+            except OSError:  # the parent is gone: so is the job
+                raise Cancelled("the service closed the fast path") from None
+
+    while True:
+        try:
+            job_id, process_id, payload, time_limit = conn.recv()
+        except (EOFError, OSError):
+            return
+        reporter = Reporter(job_id, time_limit, publish=publish, cancelled=lambda: False)
+        outcome = run_job(job_id, process_id, payload, time_limit=time_limit,
+                          test_processes=test_processes, reporter=reporter)
+        try:
+            conn.send(("outcome", outcome))
+        except OSError:
+            return

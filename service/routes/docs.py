@@ -118,6 +118,10 @@ class Subscriber(BaseModel):
     failedUri: str | None = None
 
 
+ExecutionMode = Literal["sync", "async", "auto"]
+"""The execute request's ``mode`` (OGC drafts): ``auto`` lets the service choose."""
+
+
 class ExecuteRequest(BaseModel):
     """The body of ``POST /processes/{processId}/execution``."""
 
@@ -127,7 +131,7 @@ class ExecuteRequest(BaseModel):
         None, description="The outputs wanted (all when absent).")
     response: Literal["document", "raw"] = "document"
     subscriber: Subscriber | None = None
-    mode: Literal["sync", "async", "auto"] | None = Field(
+    mode: ExecutionMode | None = Field(
         None, description="Execution mode of OGC drafts; the Prefer header takes precedence.")
     timeLimit: float | None = Field(None, gt=0, description="Lower the job's time limit "
                                     "(seconds); never raises it above the service's.")

@@ -147,7 +147,7 @@ async def get_result_output(
 
 @router.delete("/jobs/{jobId}", operation_id="dismiss",
                summary="Dismiss a job: cancel it if queued or running, else remove it",
-               responses=docs.responses(docs.StatusInfo, 404))
+               responses=docs.responses(docs.StatusInfo, 404, 507))
 async def dismiss(jobId: str, request: Request) -> JSONResponse:  # noqa: N803
     st = state(request)
     job = get_job(st, jobId, request)

@@ -7,8 +7,9 @@ import hashlib
 import math
 import sqlite3
 import time
+import uuid
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 from urllib.parse import urlencode
 
 import numpy as np
@@ -52,6 +53,7 @@ from service.routes.common import (
 router = APIRouter(tags=["processes"])
 
 _BODY_MEMBERS = {"inputs", "outputs", "response", "subscriber", "mode", "timeLimit"}
+_MODES = get_args(docs.ExecutionMode)
 
 
 @router.get("/processes", operation_id="getProcesses", summary="List the processes",
@@ -226,6 +228,9 @@ class ExecuteSpec:
     input_bytes: int
     """The inputs' size, roughly (:func:`input_size`): what the fast path's
     ``fast_path_bytes`` is compared with."""
+    cost: float
+    """The job's estimated cost (:func:`job_cost`): what the fast path's ``fast_path_cost``
+    is compared with."""
     time_limit: float
     """Seconds the job may run: the least of the family's (else the service's) limit, the
     process's and the request's ``timeLimit``."""
@@ -249,6 +254,61 @@ def input_size(value: Any, levels: int = 2) -> int:
     if levels > 0 and isinstance(value, (list, tuple)):
         return 64 + sum(input_size(v, levels - 1) for v in value)
     return 64
+
+
+def _rows(a: np.ndarray) -> int:
+    return int(a.shape[0]) if a.ndim else 1
+
+
+def _dimension(values: Any) -> int:
+    """The dimension of a job's points: the most columns of its 2-D array inputs (or of the
+    arrays in a list input), 1 if none."""
+    arrays = [a for v in values for a in (v if isinstance(v, (list, tuple)) else (v,))
+              if isinstance(a, np.ndarray) and a.ndim == 2]
+    return max((int(a.shape[1]) for a in arrays), default=1)
+
+
+def _structure_cost(value: Any) -> float:
+    """A mesh, graph or handles (a dataclass): its numbers (its arrays' elements and its
+    counts, such as a graph's node count) times the square root of its size (its most rows
+    or its largest count), the cost of a sparse factorization on its vertices or nodes."""
+    numbers, size = 0, 1
+    for f in dataclasses.fields(value):
+        member = getattr(value, f.name)
+        if isinstance(member, np.ndarray):
+            numbers += member.size
+            size = max(size, _rows(member))
+        elif isinstance(member, int) and not isinstance(member, bool):
+            numbers += member
+            size = max(size, member)
+    return numbers * math.sqrt(size)
+
+
+def job_cost(inputs: dict[str, Any]) -> float:
+    """The estimated cost of a job on ``inputs`` (its validated keyword arguments), in rough
+    operations: what decides whether it may run on the fast path (``fast_path_cost``).
+
+    An array costs its elements times d², d the points' dimension (the most columns of any
+    2-D array input): the closed forms of the fast path work in dimension d (a d×d SVD per
+    point set, least squares with d + 1 unknowns), and ``alignment.homography``'s DLT, with
+    (d + 1)² unknowns, grows faster still, so a high-dimensional job leaves the fast path
+    at a few thousand numbers. A mesh or graph costs its numbers times the square root of
+    its vertex or node count (a sparse factorization); a list of arrays, the sum of its
+    arrays'. Scalars cost nothing. Not a formula per method: an estimate that sends every
+    big job to the workers, the fast path's own time budget (``fast_path_seconds``)
+    catching what it misjudges."""
+    d2 = _dimension(inputs.values()) ** 2
+
+    def cost(value: Any) -> float:
+        if isinstance(value, np.ndarray):
+            return float(value.size) * d2
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            return _structure_cost(value)
+        if isinstance(value, (list, tuple)):
+            return sum(float(v.size) * d2 for v in value if isinstance(v, np.ndarray))
+        return 0.0
+
+    return sum(cost(v) for v in inputs.values())
 
 
 def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
@@ -307,10 +367,13 @@ def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
     from service.callbacks import check_subscriber
 
     subscriber = check_subscriber(body.get("subscriber"), st.settings.callback_hosts)
-    kwargs = process.kwargs(params)
     mode = body.get("mode")
+    if mode is not None and mode not in _MODES:
+        raise _invalid("mode", f"Expected one of {list(_MODES)}, got {mode!r}.")
+    kwargs = process.kwargs(params)
     return ExecuteSpec(
         inputs=kwargs, input_bytes=sum(input_size(v) for v in kwargs.values()),
+        cost=job_cost(kwargs),
         time_limit=time_limit,
         request=JobRequest(outputs=outputs, response=response, subscriber=subscriber),
         mode=mode if mode == "sync" or mode == "async" else None)
@@ -326,7 +389,7 @@ def _parse_execute(process: Process, body: Any, st: State, fetch: Any = None,
     openapi_extra={"requestBody": {"required": True, "content": {"application/json": {
         "schema": docs.ExecuteRequest.model_json_schema(
             ref_template="#/components/schemas/{model}")}}}},
-    responses={**docs.responses(None, 400, 404, 413, 415, 422, 429),
+    responses={**docs.responses(None, 400, 404, 413, 415, 422, 429, 507),
                200: {"description": "The results document (synchronous execution): "
                      "output name -> value; with response raw and one output, its value "
                      "alone.", "content": {"application/json": {"schema": {}}}},
@@ -389,9 +452,13 @@ async def _execute(st: State, process: Process, request: Request, header: str,
             raise ServiceError("queue-full", f"This API key has {mine} jobs waiting or "
                                f"running; the limit per key is "
                                f"{st.settings.max_queue_per_key}.", headers={"Retry-After": "5"})
-    fast = process.fast_path and spec.input_bytes <= st.settings.fast_path_bytes
-    # runs here: arrays that are views of the body are copied out of it
-    inputs = owned(spec.inputs) if fast else spec.inputs
+    # the fast path takes what is cheap by size and by estimated cost, while its workers
+    # are up; everything else goes to the Dask workers
+    fast = (process.fast_path and spec.input_bytes <= st.settings.fast_path_bytes
+            and spec.cost <= st.settings.fast_path_cost and st.engine.fast_path_ready)
+    # arrays may be views of the body: pickled on their way to a worker (or to the store),
+    # copied out of it there
+    inputs = spec.inputs
     wait, applied = _wait_for(prefer, process, spec.mode, st)
     # the job's record but for its id and times, as JobStore.create takes it
     args: dict[str, Any] = {"process": process.id, "request": spec.request,
@@ -403,8 +470,17 @@ async def _execute(st: State, process: Process, request: Request, header: str,
             if job.active:
                 applied = "respond-async" if applied else None
             return job_response(st, job, outcome, applied, wanted=wanted)
-        job = await st.store.write(st.store.create, **args, inputs=inputs, spool=spool,
-                                   body=raw, encoded=lifted.decoded if lifted else ())
+        job_id = str(uuid.uuid4())
+        # announced before its row is readable: a retry that finds the row before the job
+        # is submitted (below) waits for the job instead of answering "still running"
+        st.engine.expect(job_id)
+        try:
+            job = await st.store.write(st.store.create, **args, job_id=job_id, inputs=inputs,
+                                       spool=spool, body=raw,
+                                       encoded=lifted.decoded if lifted else ())
+        except BaseException:
+            st.engine.forget(job_id)
+            raise
     except sqlite3.IntegrityError:  # the same key raced in from another request
         earlier = st.store.by_idempotency_key(key or "", who)
         assert earlier is not None

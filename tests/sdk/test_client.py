@@ -23,7 +23,9 @@ import pytest
 import morphserve
 from morphserve import (
     APIError,
+    BadRequest,
     Client,
+    HeaderTooLarge,
     IdempotencyConflict,
     InsufficientStorage,
     InternalError,
@@ -43,6 +45,7 @@ from morphserve import (
     ProgressBar,
     ProtocolError,
     QueueFull,
+    RequestTimeout,
     ResultNotReady,
     Results,
     ServiceUnavailable,
@@ -734,6 +737,9 @@ SLUGS = [
     ("internal-error", 500, InternalError),
     ("service-unavailable", 503, ServiceUnavailable),
     ("insufficient-storage", 507, InsufficientStorage),
+    ("bad-request", 400, BadRequest),
+    ("request-timeout", 408, RequestTimeout),
+    ("header-too-large", 431, HeaderTooLarge),
 ]
 
 

@@ -73,3 +73,66 @@ def test_a_second_record_while_the_first_commits_is_ignored() -> None:
         assert len(store.written) == 1 and handle.outcome.result().status is JobStatus.SUCCESSFUL
 
     asyncio.run(scenario())
+
+
+class _DismissedStore:
+    """A store whose row was dismissed by the route before the job's end was recorded:
+    ``finish`` changes nothing (the row is final) and the row reads dismissed."""
+
+    def __init__(self, job: JobRecord) -> None:
+        import dataclasses
+
+        self.row = dataclasses.replace(job, status=JobStatus.DISMISSED)
+
+    async def write(self, fn: Any, *args: Any, **kwargs: Any) -> bool:
+        return False
+
+    def finish(self, *args: Any, **kwargs: Any) -> bool:
+        return False
+
+    def get(self, job_id: str) -> JobRecord | None:
+        return self.row if job_id == self.row.id else None
+
+
+def test_a_job_dismissed_while_it_ran_ends_dismissed_whatever_it_returned() -> None:
+    """Its computation came back successful after the client dismissed it: the store keeps
+    it dismissed, and so do the waiters, the callbacks and the metrics."""
+    from service.metrics import Metrics, render, wire
+
+    async def scenario() -> None:
+        job = JobRecord.accepted(process="alignment.rigid", request=JobRequest(),
+                                 time_limit=None)
+        engine = Engine(Settings(), _DismissedStore(job))  # type: ignore[arg-type]
+        metrics = Metrics()
+        wire(engine, metrics)
+        heard: list[JobStatus] = []
+        engine.on_finish.append(lambda job, outcome: heard.append(outcome.status))
+        handle = _Handle(job, asyncio.get_running_loop().create_future())
+        engine._jobs[job.id] = handle
+        waiter = asyncio.create_task(engine.wait(job.id, timeout=60.0))
+        await asyncio.sleep(0)  # the waiter waits on the job
+        await engine._record(handle, Outcome.successful({"x": 1}))
+        outcome = await waiter
+        assert outcome is not None and outcome.status is JobStatus.DISMISSED
+        assert heard == [JobStatus.DISMISSED]
+        text = render(metrics, jobs={}, queue=0, workers=0, processes=0)
+        assert 'morphserve_jobs_finished_total{process="alignment.rigid",status="dismissed"} 1' \
+            in text.splitlines()
+        assert not [line for line in text.splitlines()
+                    if line.startswith("morphserve_jobs_finished_total") and "successful" in line]
+
+    asyncio.run(scenario())
+
+
+def test_an_announced_job_is_waited_for_until_it_is_submitted_or_forgotten() -> None:
+    async def scenario() -> None:
+        engine = Engine(Settings(), _GatedStore())  # type: ignore[arg-type]
+        engine.expect("j1")
+        waiter = asyncio.create_task(engine.wait("j1", timeout=60.0))
+        await asyncio.sleep(0)
+        assert not waiter.done()  # the row may be readable, but the job is not here yet
+        engine.forget("j1")  # its row was never written
+        assert await waiter is None
+        assert await engine.wait("j2", timeout=60.0) is None  # unknown: at once
+
+    asyncio.run(scenario())
