@@ -10,7 +10,27 @@ from __future__ import annotations
 import inspect
 import re
 
-__all__ = ["numpydoc_section", "numpydoc_entries", "numpydoc_references", "plain"]
+__all__ = ["numpydoc_summary", "numpydoc_section", "numpydoc_entries", "numpydoc_references",
+           "plain"]
+
+
+def numpydoc_summary(doc: str | None) -> tuple[str, str]:
+    """The short summary of a numpydoc docstring and the first paragraph of its extended
+    summary, each joined into one line of plain text (``""`` where there is none).
+
+    A process takes its title and description from them: the short summary names the
+    method ("Rigid alignment (Kabsch / Umeyama without scale)."), the paragraph after it
+    says what it computes."""
+    paragraphs: list[list[str]] = [[]]
+    for ln in inspect.cleandoc(doc or "").splitlines():
+        if ln.strip():
+            paragraphs[-1].append(ln.strip())
+        elif paragraphs[-1]:
+            paragraphs.append([])
+    first = paragraphs[1] if len(paragraphs) > 1 else []
+    if len(first) > 1 and set(first[1]) == {"-"}:  # a section's title and underline
+        first = []
+    return plain(" ".join(paragraphs[0])), plain(" ".join(first))
 
 
 def numpydoc_section(doc: str | None, title: str) -> dict[str, str]:

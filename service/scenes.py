@@ -224,12 +224,40 @@ def _labels_of(n: int, *sources: Any) -> np.ndarray | None:
     return None
 
 
+def matched_classes(clusters: np.ndarray, classes: np.ndarray) -> np.ndarray:
+    """Each point's cluster named after the class it matches: clusters and classes paired
+    one to one so that the most points agree (the assignment that maximises the trace of
+    their contingency table). A cluster left without a class takes a name of its own: the
+    next integers after the classes' largest (integer classes), else ``"cluster k"``. Points
+    whose cluster is their class then share its colour; the misclustered stand out."""
+    from scipy.optimize import linear_sum_assignment
+
+    ids, cluster_of = np.unique(clusters, return_inverse=True)
+    names, class_of = np.unique(classes, return_inverse=True)
+    table = np.zeros((len(ids), len(names)), dtype=np.int64)
+    np.add.at(table, (cluster_of, class_of), 1)
+    rows, cols = linear_sum_assignment(table, maximize=True)
+    match = dict(zip(rows.tolist(), cols.tolist()))
+    integral = np.issubdtype(names.dtype, np.integer)
+    spare = iter(range(int(names.max()) + 1, int(names.max()) + 1 + len(ids))) if integral \
+        else None
+    out = [names[match[r]].item() if r in match
+           else (next(spare) if spare is not None else f"cluster {ids[r]}")
+           for r in range(len(ids))]
+    return np.asarray(out)[cluster_of]
+
+
 def clusters(outputs: Outputs, inputs: Inputs, name: str) -> bytes | None:
-    """The input ``points`` coloured by ``labels``; None for a graph given without points."""
+    """The input ``points`` coloured by their cluster (``labels``); with class ``labels``
+    among the inputs, each cluster takes the colour of the class it matches best
+    (:func:`matched_classes`). None for a graph given without points."""
     if inputs.get("points") is None:
         return None
     points = _xyz(inputs["points"])
-    colors, extras = _colour_by(np.asarray(outputs["labels"]), len(points))
+    found = np.asarray(outputs["labels"])
+    classes = _labels_of(len(points), inputs.get("labels"))
+    colors, extras = _colour_by(found if classes is None else matched_classes(found, classes),
+                                len(points))
     return gltf.scene_glb([{"vertices": points, "colors": colors, "name": name,
                             "extras": {"role": "points", **extras}}],
                           extras=_scene("clusters"))

@@ -31,6 +31,7 @@ import json
 import keyword
 import re
 import sys
+import textwrap
 import types
 import typing
 from collections.abc import Iterable
@@ -40,6 +41,7 @@ from pydantic_core import PydanticUndefined
 
 from algorithms.core.params import Kind
 from service.catalog import FAMILIES, Process, registry
+from service.catalog.registry import DISPLAY_INPUTS
 
 __all__ = ["render", "main"]
 
@@ -244,6 +246,10 @@ def docstring(process: Process, names: list[str], asynchronous: bool) -> str:
     head, sections = _sections(inspect.getdoc(process.function) or "")
     parts = [_strip(head) or [process.title + "."]]
     params = _parameter_entries(sections.get("Parameters", []), names)
+    for name in process.display:
+        params += [f"{name} : array_like, optional",
+                   *textwrap.wrap(DISPLAY_INPUTS[name][1], 88, initial_indent="    ",
+                                  subsequent_indent="    ")]
     params += [ln for _, entry in _OPTIONS for ln in entry.splitlines()]
     parts.append(["Parameters", "----------", *params])
     job = "AsyncJob" if asynchronous else "Job"
@@ -327,6 +333,13 @@ def _method(process: Process, asynchronous: bool) -> tuple[str, str]:
             text += f" = {defaults[pname]}"
         lines.append(text)
         names.append(pname)
+    for pname in process.display:  # the service's own inputs, for the result's display
+        if not star:
+            lines.append("*")
+            star = True
+        lines.append(f"{pname}: ArrayLike | None = None")
+        names.append(pname)
+        defaults[pname] = "None"  # not sent unless given
     missing = sorted(set(fields) - set(names))
     if missing:
         raise ValueError(f"{process.id}: inputs not in the function's signature: {missing}")

@@ -61,7 +61,10 @@ def affine(
     weights: WeightsLike | None = None,
     symmetric: bool = False,
 ) -> AffineResult:
-    r"""Find the affine map that best sends ``source`` onto ``target`` (linear least squares).
+    r"""Affine alignment (linear least squares).
+
+    The matrix A and translation b minimising Σ wᵢ‖A xᵢ + b − yᵢ‖² for paired points in any
+    dimension: A = Ỹ X̃⁺ by least squares, b through the centroids.
 
     Row ``i`` of ``source`` corresponds to row ``i`` of ``target``. The model is
     ``y = A x + b`` with any ``d×d`` matrix ``A``:

@@ -55,7 +55,11 @@ def homography(
     weights: WeightsLike | None = None,
     symmetric: bool = False,
 ) -> HomographyResult:
-    r"""Find the projective map (homography) that sends ``source`` onto ``target``: DLT.
+    r"""Projective alignment (normalised DLT).
+
+    The (d+1)×(d+1) projective matrix P (P[d, d] = 1 when possible) with y ≈ dehomogenize(P [x; 1]),
+    by the direct linear transformation on Hartley-normalised points, in any dimension; at least d +
+    2 pairs in general position.
 
     Row ``i`` of ``source`` corresponds to row ``i`` of ``target``. The model is
     :math:`y = \operatorname{dehom}(P\,[x; 1])` with a ``(d+1)×(d+1)`` matrix ``P``

@@ -85,7 +85,11 @@ def pca(
     allow_reflection: bool = False,
     symmetric: bool = False,
 ) -> PCAResult:
-    r"""Align two point sets by their principal axes; no correspondences, sizes may differ.
+    r"""Principal-axis alignment (no correspondences).
+
+    Lays the principal axes of the source onto those of the target (sets of any sizes): A = E′ S K
+    Eᵀ with signs S from skewness (oriented) or the best of the proper sign choices (unoriented),
+    scale K none, isotropic or anisotropic √(D′D⁻¹).
 
     Each set is centred and its covariance diagonalised,
     :math:`\frac1n \tilde X^\mathsf{T} \tilde X = E D E^\mathsf{T}` and

@@ -64,7 +64,11 @@ def principal_scaling(
     allow_reflection: bool = False,
     symmetric: bool = False,
 ) -> PrincipalScalingResult:
-    r"""Scale along perpendicular axes, then rotate: the "principal scaling" map.
+    r"""Principal scaling alignment (the cross-covariance map M = Ỹ X̃ᵀ).
+
+    Scale along perpendicular axes, then rotate: y = UΣVᵀx + t with UΣVᵀ = Σ wᵢ ỹᵢ x̃ᵢᵀ. Equals the
+    least-squares affine map exactly when the source is whitened (Σ wᵢ x̃ᵢ x̃ᵢᵀ = I); otherwise a
+    worse fit.
 
     Row ``i`` of ``source`` corresponds to row ``i`` of ``target``. The map
     :math:`y = U \Sigma V^\mathsf{T} x + t` (``U``, ``V`` orthonormal, :math:`\Sigma \ge 0`

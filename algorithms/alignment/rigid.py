@@ -53,7 +53,10 @@ def rigid(
     weights: WeightsLike | None = None,
     allow_reflection: bool = False,
 ) -> RigidResult:
-    r"""Find the rotation and translation that best map ``source`` onto ``target``.
+    r"""Rigid alignment (Kabsch / Umeyama without scale).
+
+    The rotation R (det +1 unless reflections are allowed) and translation t minimising Σ wᵢ‖R xᵢ +
+    t − yᵢ‖² for paired points in any dimension d ≥ 2.
 
     Row ``i`` of ``source`` corresponds to row ``i`` of ``target``. The model is
     ``y = R x + t`` with ``R`` orthogonal, solved in closed form (Kabsch 1976; Umeyama 1991

@@ -63,7 +63,11 @@ def similarity(
     allow_reflection: bool = False,
     symmetric: bool = False,
 ) -> SimilarityResult:
-    r"""Find the rotation, uniform scale and translation that best map ``source`` onto ``target``.
+    r"""Similarity alignment (Umeyama).
+
+    The rotation R (det +1 unless reflections are allowed), uniform scale s and translation t
+    minimising Σ wᵢ‖s R xᵢ + t − yᵢ‖² for paired points, d ≥ 2; s = tr(DΣ)/σx² with Umeyama's
+    reflection-corrected trace.
 
     Row ``i`` of ``source`` corresponds to row ``i`` of ``target``. The model is
     ``y = s R x + t`` with ``R`` orthogonal and ``s > 0``, solved in closed form (Umeyama

@@ -1,6 +1,6 @@
 """Assignment: correspondences between two point sets (who pairs with whom)."""
 
-from algorithms.assignment._dense import MAX_COST_ENTRIES, METRICS, check_cost_size
+from algorithms.assignment._dense import MAX_COST_ENTRIES, METRICS, check_cost_size, check_dense
 from algorithms.assignment.bipartite import BipartiteResult, bipartite
 from algorithms.assignment.closest_pair import ClosestPairResult, closest_pair
 from algorithms.assignment.distance import DistanceResult, distance
@@ -8,6 +8,7 @@ from algorithms.assignment.nearest import DIRECTIONS, NearestResult, nearest
 from algorithms.assignment.optimal_transport import (
     TRANSPORT_METHODS,
     TransportResult,
+    check_transport,
     optimal_transport,
 )
 
@@ -23,6 +24,8 @@ __all__ = [
     "TransportResult",
     "bipartite",
     "check_cost_size",
+    "check_dense",
+    "check_transport",
     "closest_pair",
     "distance",
     "nearest",

@@ -8,16 +8,17 @@ error instead of exhausting a worker's memory.
 
 from __future__ import annotations
 
-from typing import Literal, get_args
+from typing import Any, Literal, get_args
 
 import numpy as np
 from scipy.spatial.distance import cdist
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.types import FloatArray
+from algorithms.core.validation import check_point_sets
 
-__all__ = ["Metric", "METRICS", "MAX_COST_ENTRIES", "check_cost_size", "cost_matrix",
-           "pair_distances"]
+__all__ = ["Metric", "METRICS", "MAX_COST_ENTRIES", "check_cost_size", "check_dense",
+           "cost_matrix", "pair_distances"]
 
 Metric = Literal["euclidean", "sqeuclidean"]
 #: The accepted values of ``metric``: the ground cost of a pair of points.
@@ -26,6 +27,14 @@ METRICS = get_args(Metric)
 #: The largest dense cost matrix built, in entries ``n·m`` (16 million: 128 MB of float64,
 #: e.g. 4,000 × 4,000 points). Sinkhorn holds two such matrices, the LP path three.
 MAX_COST_ENTRIES = 16_000_000
+
+
+def check_dense(source: Any, target: Any) -> tuple[FloatArray, FloatArray]:
+    """Check two point sets of one dimension whose ``n×m`` cost matrix fits
+    (:func:`check_cost_size`); returns them as :func:`as_points` reads them."""
+    src, dst = check_point_sets(source, target)
+    check_cost_size(src.shape[0], dst.shape[0])
+    return src, dst
 
 
 def check_cost_size(n: int, m: int, *, names: tuple[str, str] = ("source", "target")) -> None:

@@ -12,13 +12,12 @@ from algorithms.assignment._dense import (
     MAX_COST_ENTRIES,
     METRICS,
     Metric,
-    check_cost_size,
+    check_dense,
     cost_matrix,
     pair_distances,
 )
 from algorithms.core.params import Gt, PointsLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_points, same_dim
 
 __all__ = ["BipartiteResult", "bipartite", "METRICS", "MAX_COST_ENTRIES"]
 
@@ -64,7 +63,10 @@ def bipartite(
     metric: Metric = "euclidean",
     max_cost: Annotated[float, Gt(0)] | None = None,
 ) -> BipartiteResult:
-    r"""Match the points of two sets one to one so that the total cost is least.
+    r"""Optimal one-to-one matching (linear assignment).
+
+    Matches the points of two sets one to one at the least total cost; sets may differ in size (the
+    surplus stays unmatched), and max_cost leaves far points single. At most 16 million pairs n·m.
 
     With :math:`c_{ij}` the ``metric`` cost between :math:`x_i` and :math:`y_j`, this solves
     the (rectangular) linear assignment problem
@@ -155,12 +157,9 @@ def bipartite(
     >>> bipartite([[0.0], [1.0], [10.0]], [[1.2], [0.1], [20.0]], max_cost=5.0).pairs.tolist()
     [[0, 1], [1, 0]]
     """
-    src = as_points(source, name="source")
-    dst = as_points(target, name="target")
-    same_dim(src, dst, names=("source", "target"))
+    src, dst = check_dense(source, target)
     tau = max_cost
     n, m = src.shape[0], dst.shape[0]
-    check_cost_size(n, m)
 
     cost = cost_matrix(src, dst, metric)
     if tau is None:

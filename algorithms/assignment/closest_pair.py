@@ -8,10 +8,11 @@ from typing import cast
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.assignment.nearest import SERIAL_BELOW, Workers, check_workers
+from algorithms.assignment.nearest import Workers, check_workers
 from algorithms.core.params import PointsLike, validate_params
+from algorithms.core.threads import query_workers
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
-from algorithms.core.validation import as_points, same_dim
+from algorithms.core.validation import check_point_sets
 
 __all__ = ["ClosestPairResult", "closest_pair"]
 
@@ -45,7 +46,9 @@ class ClosestPairResult:
 @validate_params
 def closest_pair(source: PointsLike, target: PointsLike, *, workers: Workers = -1
                  ) -> ClosestPairResult:
-    r"""Find the pair of points, one in each set, that are closest to each other.
+    r"""Closest pair between two point sets (kd-tree).
+
+    The single pair of points, one from each set, at the smallest distance.
 
     .. math::
 
@@ -101,14 +104,12 @@ def closest_pair(source: PointsLike, target: PointsLike, *, workers: Workers = -
     >>> res.pairs.tolist()
     [[1, 1]]
     """
-    src = as_points(source, name="source")
-    dst = as_points(target, name="target")
-    same_dim(src, dst, names=("source", "target"))
+    src, dst = check_point_sets(source, target)
     workers = check_workers(workers)
     tree_is_source = src.shape[0] < dst.shape[0]
     tree_points, query_points = (src, dst) if tree_is_source else (dst, src)
-    if workers == -1 and query_points.shape[0] < SERIAL_BELOW:
-        workers = 1
+    if workers == -1:
+        workers = query_workers(query_points.shape[0])
     dist, idx = cast(KnnQuery, cKDTree(tree_points).query(query_points, k=1, workers=workers))
     q = int(np.argmin(dist))
     t = int(idx[q])

@@ -8,10 +8,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from algorithms.assignment.nearest import SERIAL_BELOW, Workers, check_workers
+from algorithms.assignment.nearest import Workers, check_workers
 from algorithms.core.params import PointsLike, validate_params
+from algorithms.core.threads import query_workers
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_points, same_dim
+from algorithms.core.validation import check_point_sets
 
 __all__ = ["DistanceResult", "distance"]
 
@@ -62,7 +63,11 @@ class DistanceResult:
 @validate_params
 def distance(source: PointsLike, target: PointsLike, *, workers: Workers = -1
              ) -> DistanceResult:
-    r"""Measure how far apart two point sets are: Chamfer, Hausdorff and RMSE together.
+    r"""Chamfer, Hausdorff and RMSE distances between point sets.
+
+    How far apart two point sets are, from their nearest-neighbour assignment in both directions:
+    Chamfer (sum and mean), Hausdorff (and both directed halves), RMSE, and every point's distance
+    to the other set.
 
     With the nearest-neighbour distances :math:`d_i = \min_j \lVert x_i - y_j \rVert`
     (forward, one per source point) and :math:`e_j = \min_i \lVert x_i - y_j \rVert`
@@ -135,9 +140,7 @@ def distance(source: PointsLike, target: PointsLike, *, workers: Workers = -1
     >>> res.chamfer, res.hausdorff, res.hausdorff_forward
     (7.5, 3.0, 1.5)
     """
-    src = as_points(source, name="source")
-    dst = as_points(target, name="target")
-    same_dim(src, dst, names=("source", "target"))
+    src, dst = check_point_sets(source, target)
     workers = check_workers(workers)
     fwd = _nearest_distances(dst, src, workers)
     bwd = _nearest_distances(src, dst, workers)
@@ -161,7 +164,7 @@ def distance(source: PointsLike, target: PointsLike, *, workers: Workers = -1
 def _nearest_distances(tree_points: FloatArray, query_points: FloatArray, workers: int
                        ) -> FloatArray:
     """Distance from every query point to its nearest tree point."""
-    if workers == -1 and query_points.shape[0] < SERIAL_BELOW:
-        workers = 1
+    if workers == -1:
+        workers = query_workers(query_points.shape[0])
     dist, _ = cKDTree(tree_points).query(query_points, k=1, workers=workers)
     return np.ascontiguousarray(dist, dtype=np.float64)

@@ -10,8 +10,9 @@ from scipy.spatial import cKDTree
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.params import Ge, Gt, PointsLike, validate_params
+from algorithms.core.threads import query_workers
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
-from algorithms.core.validation import as_int, as_points, same_dim
+from algorithms.core.validation import as_int, check_point_sets
 
 __all__ = ["NearestResult", "nearest", "Direction", "DIRECTIONS", "Workers", "check_workers"]
 
@@ -22,9 +23,6 @@ DIRECTIONS = get_args(Direction)
 Workers = Annotated[int, Ge(-1)]
 """Threads of the kd-tree queries: -1 (every core) or a positive count; 0 is refused by
 :func:`check_workers`."""
-
-#: With ``workers=-1``, queries of fewer points than this run on one thread.
-SERIAL_BELOW = 8192
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,7 +68,10 @@ def nearest(
     max_distance: Annotated[float, Gt(0)] | None = None,
     workers: Workers = -1,
 ) -> NearestResult:
-    r"""Pair each point with its ``k`` nearest points in the other set.
+    r"""Nearest-neighbour assignment (kd-tree).
+
+    Pairs each point with its k nearest neighbours in the other set, in one or both directions,
+    optionally within a distance.
 
     For ``direction="forward"`` every source point :math:`x_i` is paired with the ``k``
     target points closest to it,
@@ -162,9 +163,7 @@ def nearest(
     >>> res.distances.tolist()
     [1.5, 0.5, 1.0, 0.5, 1.0]
     """
-    src = as_points(source, name="source")
-    dst = as_points(target, name="target")
-    same_dim(src, dst, names=("source", "target"))
+    src, dst = check_point_sets(source, target)
     n_s, n_t = src.shape[0], dst.shape[0]
     if direction == "forward":
         limit, why = n_t, "the number of `target` points"
@@ -212,8 +211,8 @@ def _query(
     """k nearest ``tree_points`` of every query point: (query index, tree index, distance),
     flattened query-major, nearest first, pairs beyond ``bound`` dropped."""
     tree = cKDTree(tree_points)
-    if workers == -1 and query_points.shape[0] < SERIAL_BELOW:
-        workers = 1
+    if workers == -1:
+        workers = query_workers(query_points.shape[0])
     if bound is None:
         dist, idx = cast(KnnQuery, tree.query(query_points, k=k, workers=workers))
     else:

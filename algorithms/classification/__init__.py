@@ -7,7 +7,7 @@
 """
 
 from algorithms.classification._common import as_labels
-from algorithms.classification.lda import LDAResult, lda
-from algorithms.classification.nca import NCAResult, nca
+from algorithms.classification.lda import LDAResult, check_lda, lda
+from algorithms.classification.nca import NCAResult, check_nca, nca
 
-__all__ = ["LDAResult", "lda", "NCAResult", "nca", "as_labels"]
+__all__ = ["LDAResult", "lda", "check_lda", "NCAResult", "nca", "check_nca", "as_labels"]

@@ -8,8 +8,9 @@ import numpy as np
 
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.validation import as_points, same_dim
 
-__all__ = ["as_labels", "fix_signs"]
+__all__ = ["as_labels", "check_labelled", "fix_signs"]
 
 
 def as_labels(labels: Any, n: int, *, name: str = "labels",
@@ -43,6 +44,20 @@ def as_labels(labels: Any, n: int, *, name: str = "labels",
             f"Expected `{name}` to name at least 2 classes, got {classes.shape[0]}.",
             field=name)
     return classes, index.astype(np.int64)
+
+
+def check_labelled(points: Any, labels: Any, query: Any = None, *,
+                   max_points: int | None = None
+                   ) -> tuple[FloatArray, np.ndarray, IntArray, FloatArray | None]:
+    """Labelled points: at least 3, one label each (:func:`as_labels`), and query points,
+    when given, of their dimension. Returns the points, classes, class indices and query."""
+    x = as_points(points, name="points", min_points=3, max_points=max_points)
+    classes, y = as_labels(labels, x.shape[0])
+    q = None
+    if query is not None:
+        q = as_points(query, name="query")
+        same_dim(x, q, names=("points", "query"))
+    return x, classes, y, q
 
 
 def fix_signs(vectors: FloatArray) -> FloatArray:

@@ -9,14 +9,14 @@ from typing import Annotated, Any
 import numpy as np
 import scipy.linalg as la
 
-from algorithms.classification._common import as_labels
+from algorithms.classification._common import check_labelled
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.params import Ge, LabelsLike, PointsLike, validate_params
-from algorithms.core.types import FloatArray, IntpArray
-from algorithms.core.validation import as_int, as_points, same_dim
+from algorithms.core.types import FloatArray, IntArray, IntpArray
+from algorithms.core.validation import as_int
 from algorithms.embedding import trustworthiness
 
-__all__ = ["LDAResult", "lda"]
+__all__ = ["LDAResult", "lda", "check_lda"]
 
 #: Relative threshold below which a singular value counts as zero (scikit-learn's ``tol``).
 RANK_TOLERANCE = 1e-4
@@ -71,6 +71,25 @@ class LDAResult:
     trustworthiness: float
 
 
+def check_lda(points: Any, labels: Any, n_components: Any = None, query: Any = None
+              ) -> tuple[FloatArray, np.ndarray, IntArray, int, FloatArray | None]:
+    """Check the inputs of :func:`lda`: labelled points (:func:`check_labelled`), more of
+    them than classes, and ``n_components`` at most ``min(classes - 1, d)``. Returns the
+    points, classes, class indices, the number of components and the query."""
+    x, classes, y, q = check_labelled(points, labels, query)
+    n, d = x.shape
+    c = classes.shape[0]
+    if n <= c:
+        raise InvalidInputError(
+            f"Expected `points` to hold more points than classes ({c}), got {n}.",
+            field="points")
+    most = min(c - 1, d)
+    k = most if n_components is None else as_int(
+        n_components, name="n_components", minimum=1, maximum=most,
+        reason=f"min(classes - 1, dimension) = min({c - 1}, {d})")
+    return x, classes, y, k, q
+
+
 @validate_params
 def lda(
     points: PointsLike,
@@ -79,7 +98,12 @@ def lda(
     n_components: Annotated[int, Ge(1)] | None = None,
     query: PointsLike | None = None,
 ) -> LDAResult:
-    r"""Fit Fisher's linear discriminant on labelled points; project and classify.
+    r"""Fisher linear discriminant analysis.
+
+    The directions maximising between-class over within-class variance (S_B a = λ S_W a, by two SVDs
+    as scikit-learn's svd solver), the points projected on them, and the Gaussian shared-covariance
+    classifier's predictions for the points and optional query points. Reports accuracy, explained
+    variance and trustworthiness.
 
     The discriminant directions :math:`a` maximise the ratio of between-class to
     within-class variance of the projected points
@@ -162,22 +186,9 @@ def lda(
     >>> res.predictions, res.query_predictions, res.embedding.shape
     ([0, 0, 0, 1, 1, 1], [0, 1], (6, 1))
     """
-    x = as_points(points, name="points", min_points=3)
+    x, classes, y, k, q = check_lda(points, labels, n_components, query)
     n, d = x.shape
-    classes, y = as_labels(labels, n)
     c = classes.shape[0]
-    if n <= c:
-        raise InvalidInputError(
-            f"Expected `points` to hold more points than classes ({c}), got {n}.",
-            field="points")
-    most = min(c - 1, d)
-    k = most if n_components is None else as_int(
-        n_components, name="n_components", minimum=1, maximum=most,
-        reason=f"min(classes - 1, dimension) = min({c - 1}, {d})")
-    q = None
-    if query is not None:
-        q = as_points(query, name="query")
-        same_dim(x, q, names=("points", "query"))
 
     counts = np.bincount(y, minlength=c).astype(np.float64)
     priors = counts / n

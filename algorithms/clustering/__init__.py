@@ -11,7 +11,8 @@ Both build the neighbour graph of the points with the parameters of
 ``sigma``.
 """
 
-from algorithms.clustering.markov import MarkovClusteringResult, markov
-from algorithms.clustering.spectral import SpectralClusteringResult, spectral
+from algorithms.clustering.markov import MarkovClusteringResult, check_markov, markov
+from algorithms.clustering.spectral import SpectralClusteringResult, check_spectral, spectral
 
-__all__ = ["MarkovClusteringResult", "markov", "SpectralClusteringResult", "spectral"]
+__all__ = ["MarkovClusteringResult", "markov", "check_markov", "SpectralClusteringResult",
+           "spectral", "check_spectral"]

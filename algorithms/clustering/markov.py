@@ -19,15 +19,15 @@ from algorithms.core.graphs import (
     NNeighbors,
     Radius,
     as_graph,
+    check_neighbour_graph,
     edge_graph,
     neighbour_graph,
 )
 from algorithms.core.params import Ge, GraphLike, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_points
 
-__all__ = ["MarkovClusteringResult", "markov"]
+__all__ = ["MarkovClusteringResult", "markov", "check_markov"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,7 +78,12 @@ def markov(
     tolerance: Annotated[float, Ge(0)] = 1e-6,
     progress: Progress | None = None,
 ) -> MarkovClusteringResult:
-    r"""Cluster a graph, or the neighbour graph of points, by Markov clustering (MCL).
+    r"""Markov clustering (MCL).
+
+    Alternates expansion (a matrix power: random-walk steps) and inflation (elementwise power,
+    columns renormalised) of the column-stochastic matrix of a graph or of the points' neighbour
+    graph, pruning small entries, until it stops changing; the attractors name the clusters. The
+    number of clusters follows from the inflation. Progress per iteration, cancellable.
 
     From the weighted adjacency :math:`A` with self-loops added, the column-stochastic
     matrix :math:`M = A D^{-1}` (a random walk's transition probabilities) is iterated:
@@ -226,13 +231,23 @@ def markov(
     )
 
 
-def _adjacency(points: Any, graph: Any, **kw: Any) -> sp.csr_array:
+def check_markov(points: Any = None, graph: Any = None, neighbors: str = "knn",
+                 n_neighbors: Any = None, radius: Any = None) -> FloatArray | None:
+    """Check the inputs of :func:`markov`: exactly one of ``points`` and ``graph``; points
+    for a neighbour graph (:func:`~algorithms.core.graphs.check_neighbour_graph`). Returns
+    the points, or None for a graph."""
     if (points is None) == (graph is None):
         got = "none" if points is None else "both"
         raise InvalidInputError(f"Expected exactly one of `points` and `graph`, got {got}.",
                                 field="points" if points is None else "graph")
-    if points is not None:
-        x = as_points(points, name="points", min_points=2)
+    if points is None:
+        return None
+    return check_neighbour_graph(points, neighbors, n_neighbors, radius)
+
+
+def _adjacency(points: Any, graph: Any, **kw: Any) -> sp.csr_array:
+    x = check_markov(points, graph, kw["neighbors"], kw.get("n_neighbors"), kw.get("radius"))
+    if x is not None:
         return neighbour_graph(x, **kw)
 
     g = as_graph(graph, name="graph")

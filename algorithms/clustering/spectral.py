@@ -4,7 +4,7 @@ normalised graph Laplacian."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated
+from typing import Annotated, Any
 
 import numpy as np
 import scipy.linalg as la
@@ -20,14 +20,15 @@ from algorithms.core.graphs import (
     Neighbors,
     NNeighbors,
     Radius,
+    check_neighbour_graph,
     neighbour_graph,
 )
 from algorithms.core.laplacian import normalized_laplacian
 from algorithms.core.params import Ge, PointsLike, Seed, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_int, as_points
+from algorithms.core.validation import as_int
 
-__all__ = ["SpectralClusteringResult", "spectral", "DENSE_BELOW"]
+__all__ = ["SpectralClusteringResult", "spectral", "check_spectral", "DENSE_BELOW"]
 
 #: Below this many points the eigenvectors come from a dense symmetric eigensolver.
 DENSE_BELOW = 2500
@@ -67,6 +68,17 @@ class SpectralClusteringResult:
     graph_components: int
 
 
+def check_spectral(points: Any, n_clusters: Any, neighbors: str = "knn",
+                   n_neighbors: Any = None, radius: Any = None) -> tuple[FloatArray, int]:
+    """Check the inputs of :func:`spectral`: points for a neighbour graph
+    (:func:`~algorithms.core.graphs.check_neighbour_graph`) and ``n_clusters`` at most
+    their number. Returns the points and the number of clusters."""
+    x = check_neighbour_graph(points, neighbors, n_neighbors, radius)
+    k = as_int(n_clusters, name="n_clusters", minimum=1, maximum=x.shape[0],
+               reason="the number of `points`")
+    return x, k
+
+
 @validate_params
 def spectral(
     points: PointsLike,
@@ -80,7 +92,11 @@ def spectral(
     n_init: Annotated[int, Ge(1)] = 10,
     seed: Seed = 0,
 ) -> SpectralClusteringResult:
-    r"""Cluster points by k-means on the spectral embedding of their neighbour graph.
+    r"""Spectral clustering (Ng, Jordan, Weiss).
+
+    k-means (k-means++ seeding, seeded) on the bottom eigenvectors of the symmetric normalised
+    Laplacian of the points' neighbour graph, rows scaled to unit length. Reports labels, cluster
+    sizes, the embedding and its eigenvalues.
 
     With :math:`W` the weights of the neighbour graph and :math:`D` its degrees, the
     embedding is made of the eigenvectors :math:`u_1, \dots, u_k` of the ``k = n_clusters``
@@ -173,10 +189,7 @@ def spectral(
     >>> res.labels.tolist(), res.sizes.tolist()
     ([0, 0, 0, 1, 1, 1], [3, 3])
     """
-    x = as_points(points, name="points", min_points=2)
-    n = x.shape[0]
-    k = as_int(n_clusters, name="n_clusters", minimum=1, maximum=n,
-               reason="the number of `points`")
+    x, k = check_spectral(points, n_clusters, neighbors, n_neighbors, radius)
     w = neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
                         weighting=weighting, sigma=sigma, include_self=True)
     ncomp = int(connected_components(w, directed=False)[0])

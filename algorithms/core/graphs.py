@@ -51,6 +51,7 @@ from algorithms.core.validation import (
 
 __all__ = ["Graph", "as_graph", "edge_graph", "knn_graph", "nearest_sorted", "radius_graph",
            "weight", "graph_from_pairs", "neighbour_graph", "check_neighbour_params",
+           "check_neighbour_graph",
            "check_n_neighbors", "check_connected", "Neighbors", "GraphWeighting", "NNeighbors",
            "Radius", "HeatWidth", "NEIGHBORS", "WEIGHTINGS", "MAX_COMPLETE"]
 
@@ -495,6 +496,16 @@ def check_neighbour_params(n: int, neighbors: str, n_neighbors: Any, radius: Any
     if neighbors == "radius" and radius is None:
         raise InvalidInputError("Expected `radius` with neighbors='radius', got none.",
                                 field="radius")
+
+
+def check_neighbour_graph(points: Any, neighbors: str = "knn", n_neighbors: Any = None,
+                          radius: Any = None, *, min_points: int = 2) -> FloatArray:
+    """Points for a neighbour graph: at least ``min_points`` of them (:func:`as_points`)
+    and graph parameters that fit them (:func:`check_neighbour_params`). Returns the
+    points."""
+    x = as_points(points, name="points", min_points=min_points)
+    check_neighbour_params(x.shape[0], neighbors, n_neighbors, radius)
+    return x
 
 
 def check_n_neighbors(n: int, n_neighbors: Any, *, name: str = "points") -> int:

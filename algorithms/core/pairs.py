@@ -30,6 +30,7 @@ from algorithms.core.validation import (
 __all__ = [
     "Pairs",
     "prepare",
+    "check_pairs",
     "one_per_dimension",
     "rotation_fit",
     "flat_error",
@@ -117,6 +118,14 @@ class Pairs:
         return numerical_rank(np.linalg.svd(pts, compute_uv=False), rtol)
 
 
+def check_pairs(source: Any, target: Any, weights: Any = None) -> FloatArray | None:
+    """Check the pairing of two point sets: row ``i`` of ``source`` with row ``i`` of
+    ``target`` (the same shape), ``weights``, when given, one per pair. Returns the weights
+    as :func:`as_weights` reads them."""
+    same_shape(source, target, names=("source", "target"))
+    return as_weights(weights, source.shape[0], name="weights")
+
+
 def prepare(
     source: Any,
     target: Any,
@@ -132,11 +141,9 @@ def prepare(
     """
     src = as_points(source, name="source", min_dim=min_dim)
     dst = as_points(target, name="target")
-    same_shape(src, dst, names=("source", "target"))
-    n, d = src.shape
-    count, reason = minimum(d)
+    w = check_pairs(src, dst, weights)
+    count, reason = minimum(src.shape[1])
     check_min_points(src, count, name="source", reason=reason)
-    w = as_weights(weights, n, name="weights")
     if w is None:
         return trusted_pairs(src, dst)
     total = float(w.sum())

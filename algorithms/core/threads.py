@@ -1,26 +1,65 @@
-"""One BLAS thread for loops of memory-bound products.
+"""The package's thread policy: our own threads for the parallel work, one BLAS thread.
 
-Iterative methods that multiply a large matrix by a few vectors per iteration (the layouts'
-SMACOF and distance completion) are bound by memory bandwidth, not arithmetic, so more BLAS
-threads do not help, and when the cores are shared (several workers, other jobs) OpenBLAS
-threads spin-waiting for each other made such loops 10-40× slower in measurements here. Such
-loops run with BLAS limited to one thread (through ``threadpoolctl``, a dependency of the
-package).
+The iterative methods here parallelise at a coarse grain themselves (kd-tree queries with
+``workers``, CPD's partitions of the E-step) and, between those, multiply thin matrices:
+``(n, 3) @ (3, 3)`` transforms, ``(n, 3)ᵀ (n, 3)`` moments, matrix-vector products of
+SMACOF and t-SNE. Such products are bound by memory bandwidth, not arithmetic, so BLAS
+threads do not speed them up; they wake, spin and contend with the kd-tree's workers and
+with each other. Measured on 2 cores: one ``(100000, 3) @ (3, 3)`` product took 34 ms of
+CPU with 2 OpenBLAS threads against 3 ms with one, ICP ran 1.4-1.7× slower at default
+settings than with BLAS held to one thread, CPD 1.9×, and the layouts' loops 10-40× on busy
+cores. The policy, applied in every such loop (ICP, CPD, RANSAC, multiway, the layouts and
+the embeddings):
+
+1. the loop runs inside :func:`single_blas_thread` (BLAS on one thread);
+2. kd-tree queries use :func:`query_workers`: every core available to the process from
+   :data:`SERIAL_BELOW` query points, one thread below (starting threads costs more there);
+3. dense factorisations and solves of large matrices (CPD's nonrigid ``M × M`` solve, the
+   eigensolvers) stay outside the block, where BLAS threads do pay.
+
+Results never depend on the number of threads that the kd-tree uses; a BLAS product on one
+thread sums in one fixed order, so results inside the block are the same on every machine.
 """
 
 from __future__ import annotations
 
 import contextlib
+import functools
+import os
+import threading
 from collections.abc import Iterator
+from typing import Any
 
-from threadpoolctl import threadpool_limits
+import scipy.linalg  # noqa: F401 - loads SciPy's own OpenBLAS before the controller looks
+import threadpoolctl
+from threadpoolctl import ThreadpoolController
 
-__all__ = ["single_blas_thread"]
+__all__ = ["single_blas_thread", "query_workers", "usable_cores", "SERIAL_BELOW"]
+
+#: Queries of fewer points than this run on one thread (starting threads costs more).
+SERIAL_BELOW = 8192
+
+_lock = threading.Lock()
+_depth = 0
+_limiter: Any = None     # threadpoolctl's limiter of the outermost block, restored at its end
+
+
+@functools.cache
+def _controller() -> ThreadpoolController:
+    # Inspecting the loaded libraries costs about a millisecond: once per process, not per
+    # block (0.02 ms). Libraries loaded later are not seen; NumPy's and SciPy's are loaded.
+    return ThreadpoolController()
 
 
 @contextlib.contextmanager
 def single_blas_thread() -> Iterator[None]:
-    """Limit BLAS to one thread inside the block (the previous limits come back after it).
+    """Limit BLAS to one thread inside the block; the previous limits come back after it.
+
+    Blocks may nest and may be entered by several threads at once (jobs in the threads of
+    one worker): the limit is set when the first block starts and the previous limits are
+    restored when the last one ends, whatever the order in which they end (OpenBLAS's
+    limit is one for the whole process). BLAS calls of other threads in the meantime also
+    run on one thread.
 
     Examples
     --------
@@ -28,5 +67,45 @@ def single_blas_thread() -> Iterator[None]:
     >>> with single_blas_thread():
     ...     y = np.ones((200, 200)) @ np.ones(200)
     """
-    with threadpool_limits(limits=1, user_api="blas"):
+    global _depth, _limiter
+    with _lock:
+        if _depth == 0:
+            _limiter = _controller().limit(limits=1, user_api="blas")
+            _release()
+        _depth += 1
+    try:
         yield
+    finally:
+        with _lock:
+            _depth -= 1
+            if _depth == 0:
+                _limiter.restore_original_limits()
+                _limiter = None
+                _release()
+
+
+def _release() -> None:
+    """Let any thread set OpenBLAS's limits next. Recent threadpoolctl (3.8) lets only one
+    thread, the first to set them, change the shared pool's limits until it leaves its
+    ``with`` block; the limits set here are not such a block, and the thread that restores
+    them may not be the one that set them. (A thread inside a ``threadpool_limits`` block of
+    its own keeps control, and its limits win: the calls here then change nothing.)"""
+    clear = getattr(getattr(threadpoolctl, "OpenBLASController", None),
+                    "clear_controlling_thread", None)
+    if clear is not None:
+        clear()
+
+
+def usable_cores() -> int:
+    """The number of cores this process may run on (its CPU affinity where the system
+    reports it, e.g. under ``taskset`` or a container's cpuset; else every core)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def query_workers(n: int) -> int:
+    """The ``workers`` for a kd-tree query of ``n`` points: one below
+    :data:`SERIAL_BELOW`, else :func:`usable_cores`. The answers never depend on it."""
+    return 1 if n < SERIAL_BELOW else usable_cores()

@@ -43,6 +43,7 @@ __all__ = [
     "check_min_points",
     "same_shape",
     "same_dim",
+    "check_point_sets",
     "check_keys",
     "fmt_shape",
     "MAX_DENSE_POINTS",
@@ -287,6 +288,15 @@ def same_dim(a: np.ndarray, b: np.ndarray, *, names: tuple[str, str]) -> None:
             f"({a.shape[1]}), got shape {fmt_shape(b.shape)}.",
             field=second,
         )
+
+
+def check_point_sets(source: Any, target: Any) -> tuple[FloatArray, FloatArray]:
+    """Check two point sets of one dimension, their sizes free: ``source`` and ``target`` as
+    :func:`as_points` reads them, ``target`` in ``source``'s dimension. Returns both."""
+    src = as_points(source, name="source")
+    dst = as_points(target, name="target")
+    same_dim(src, dst, names=("source", "target"))
+    return src, dst
 
 
 def as_weights(w: Any, n: int, *, name: str) -> FloatArray | None:

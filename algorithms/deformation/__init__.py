@@ -10,6 +10,7 @@ from algorithms.deformation.arap import ArapResult, ArapSolver, arap
 from algorithms.deformation.biharmonic import BiharmonicResult, biharmonic
 from algorithms.deformation.deformation_transfer import (
     DeformationTransferResult,
+    check_deformation_transfer,
     deformation_transfer,
 )
 from algorithms.deformation.harmonic import HarmonicResult, harmonic
@@ -26,6 +27,7 @@ __all__ = [
     "biharmonic",
     "DeformationTransferResult",
     "deformation_transfer",
+    "check_deformation_transfer",
     "HarmonicResult",
     "harmonic",
     "IsotropicScalingResult",

@@ -230,7 +230,8 @@ class ArapSolver:
             Upper bound on local/global iterations (``>= 1``).
         tolerance : float, default 1e-5
             Stop when an iteration lowers the energy by at most ``tolerance`` times its
-            value (``0`` runs all ``max_iterations``, as libigl does).
+            value (``0`` runs all ``max_iterations``, as libigl's ``arap_solve`` does, unless
+            the energy reaches zero).
         progress : callable, optional
             ``progress(done, max_iterations, message)`` after every iteration; it may raise
             :class:`~algorithms.core.errors.Cancelled`.
@@ -294,7 +295,7 @@ class ArapSolver:
                  + float(np.einsum("i,i,i->", scale, scale, den)))
             energies.append(e)
             report(it + 1, max_iterations, f"iteration {it + 1}: energy {e:.6g}")
-            if abs(e) <= floor or (it > 0 and
+            if abs(e) <= floor or (it > 0 and tolerance > 0 and
                                    energies[-2] - e <= tolerance * max(abs(e), floor)):
                 converged = True
                 break
@@ -322,7 +323,11 @@ def arap(
     tolerance: Annotated[float, Ge(0)] = 1e-5,
     progress: Progress | None = None,
 ) -> ArapResult:
-    r"""Deform a mesh as rigidly as possible so that its handles reach their targets.
+    r"""As-rigid-as-possible deformation (local/global).
+
+    Alternates per-vertex best rotations (batched, proper) and one prefactored cotangent-Laplacian
+    solve; handles met exactly, energy never increasing; spokes or spokes-and-rims energy, optional
+    per-vertex scale.
 
     Minimises over the new positions :math:`p'` and one rotation :math:`R_i` per vertex
 
@@ -364,10 +369,12 @@ def arap(
         Fit a non-negative scale per vertex too, besides its rotation
         (as-similar-as-possible).
     max_iterations : int, default 30
-        Upper bound on local/global iterations.
+        Upper bound on local/global iterations (libigl's ``ARAPData.max_iter`` is 10, run
+        to the end; ours stops earlier by ``tolerance``, so a larger bound costs nothing on
+        easy edits and lets hard ones converge).
     tolerance : float, default 1e-5
         Stop when an iteration lowers the energy by at most this fraction; ``0`` runs all
-        ``max_iterations`` (libigl's behaviour).
+        ``max_iterations`` (libigl's behaviour), unless the energy reaches zero.
     progress : callable, optional
         ``progress(done, max_iterations, message)`` after every iteration; raising
         :class:`~algorithms.core.errors.Cancelled` from it stops the run.

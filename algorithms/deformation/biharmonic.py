@@ -40,8 +40,10 @@ class BiharmonicResult:
 @validate_params
 def biharmonic(mesh: MeshLike, handles: HandlesLike, *,
                order: Annotated[int, Ge(2), Le(3)] = 2) -> BiharmonicResult:
-    r"""Move the handles to their targets and the rest of the mesh by the biharmonic
-    (thin-plate) extension of their displacements.
+    r"""Biharmonic deformation.
+
+    Spreads the handle displacements by the bi-Laplace equation L M⁻¹ L u = 0 (cotangent Laplacian,
+    Voronoi mass), smooth at the handles; as igl.harmonic with k = 2 (or 3).
 
     The displacement :math:`u = p' - p` minimises the Laplacian energy
     :math:`\int (\Delta u)^2`, discretised with the cotangent Laplacian :math:`L` and the

@@ -4,19 +4,21 @@ per-triangle deformation of a source mesh with the same connectivity."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, read_mesh
+from algorithms.core.mesh import DEGENERATE_RTOL, Handles, Mesh, read_mesh
 from algorithms.core.params import HandlesLike, MeshLike, PointsLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_points
-from algorithms.deformation._common import handle_residual, pins_of, read_handles
+from algorithms.deformation._common import check_handles, handle_residual, pins_of
 
-__all__ = ["DeformationTransferResult", "deformation_transfer", "frames"]
+__all__ = ["DeformationTransferResult", "deformation_transfer", "check_deformation_transfer",
+           "frames"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,6 +78,24 @@ def _check_frames(vertices: FloatArray, faces: IntArray, name: str) -> None:
             f"{row}.", field=name)
 
 
+def check_deformation_transfer(mesh: Any, handles: Any, source: Any, source_deformed: Any
+                               ) -> tuple[Mesh, Handles, FloatArray, FloatArray]:
+    """Check the inputs of :func:`deformation_transfer`: handles that fit the mesh
+    (:func:`~algorithms.deformation.check_handles`), ``source`` and ``source_deformed`` one
+    row per vertex of the mesh, in its dimension. Returns the four checked."""
+    m = mesh if isinstance(mesh, Mesh) else read_mesh(mesh)
+    h = check_handles(m, handles)
+    n, d = m.vertices.shape
+    src = as_points(source, name="source", dim=d)
+    dst = as_points(source_deformed, name="source_deformed", dim=d)
+    for name, arr in (("source", src), ("source_deformed", dst)):
+        if arr.shape[0] != n:
+            raise InvalidInputError(
+                f"Expected `{name}` to hold one row per vertex of `mesh` ({n}), got "
+                f"{arr.shape[0]}.", field=name)
+    return m, h, src, dst
+
+
 @validate_params
 def deformation_transfer(
     mesh: MeshLike,
@@ -84,8 +104,11 @@ def deformation_transfer(
     source: PointsLike,
     source_deformed: PointsLike,
 ) -> DeformationTransferResult:
-    r"""Deform ``mesh`` (the target) the way ``source`` deforms into ``source_deformed``:
-    face by face, the target's deformation gradient follows the source's.
+    r"""Deformation transfer (same connectivity).
+
+    Gives the target mesh the per-face deformation gradients of a source mesh that deforms from
+    source to source_deformed (same faces): min Σ‖T_c − Q_c‖²_F with shared vertices (and, in 3-D, a
+    free fourth vertex per face); one factored solve.
 
     The three share connectivity: ``source`` and ``source_deformed`` are vertex arrays on
     ``mesh.faces`` (face ``c`` of the source corresponds to face ``c`` of the target). For
@@ -170,18 +193,10 @@ def deformation_transfer(
     >>> bool(np.allclose(res.mesh.vertices, tgt @ shear.T))  # the shear carries over
     True
     """
-    m = read_mesh(mesh)
-    h = read_handles(handles, m)
+    m, h, src, dst = check_deformation_transfer(mesh, handles, source, source_deformed)
     v, f = m.vertices, m.faces
     n, d = v.shape
     nf = f.shape[0]
-    src = as_points(source, name="source", dim=d)
-    dst = as_points(source_deformed, name="source_deformed", dim=d)
-    for name, arr in (("source", src), ("source_deformed", dst)):
-        if arr.shape[0] != n:
-            raise InvalidInputError(
-                f"Expected `{name}` to hold one row per vertex of `mesh` ({n}), got "
-                f"{arr.shape[0]}.", field=name)
     _check_frames(src, f, "source")
     pins = pins_of(m, h.indices, name="handles")
 

@@ -74,8 +74,10 @@ def k_harmonic(mesh: Mesh, handle_indices: Any, handle_positions: FloatArray, k:
 
 @validate_params
 def harmonic(mesh: MeshLike, handles: HandlesLike) -> HarmonicResult:
-    r"""Move the handles to their targets and the rest of the mesh by the harmonic
-    extension of their displacements.
+    r"""Harmonic deformation.
+
+    Spreads the handle displacements by the Laplace equation (cotangent Laplacian): L_ff u_f = −L_fp
+    u_p, x' = x + u; as igl.harmonic with k = 1.
 
     The displacement :math:`u = p' - p` minimises the Dirichlet energy
     :math:`\int \lVert \nabla u \rVert^2`, discretised with the cotangent Laplacian

@@ -61,8 +61,12 @@ def isotropic_scaling(
     tolerance: Annotated[float, Ge(0)] = 1e-6,
     progress: Progress | None = None,
 ) -> IsotropicScalingResult:
-    r"""Move the handles to their targets, letting every face scale uniformly (no rotation,
-    no shear) while edges keep their directions and adapt their lengths.
+    r"""Isotropic scaling deformation (scale-and-stretch).
+
+    Each face may only scale, edges keep their directions and adapt their lengths: block coordinate
+    descent between closed-form per-face scales and one prefactored Laplacian solve, length ratios
+    from the previous iterate (a correction of the paper, whose fixed ratios cannot be split off
+    from the positions they depend on).
 
     With :math:`e_{ij} = p_i - p_j` the rest edges and :math:`e'_{ij}` the new ones, each
     face :math:`c` gets a scale :math:`s_c` and each edge a length ratio :math:`l_{ij}`:

@@ -46,8 +46,10 @@ class LaplacianResult:
 @validate_params
 def laplacian(mesh: MeshLike, handles: HandlesLike, *, weights: Weights = "cotangent"
               ) -> LaplacianResult:
-    r"""Move the handles to their targets and every other vertex so that the edge vectors
-    change as little as possible.
+    r"""Laplacian-preserving deformation.
+
+    Moves the handles and every other vertex so that the weighted edge vectors change least: L_ff x'
+    = (L x)_f − L_fp c, one factored solve for all coordinates.
 
     .. math::
 

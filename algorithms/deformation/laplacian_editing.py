@@ -128,8 +128,11 @@ def editing_matrix(vertices: FloatArray, faces: IntArray, weights: Weights = "un
 @validate_params
 def laplacian_editing(mesh: MeshLike, handles: HandlesLike, *, weights: Weights = "uniform"
                       ) -> LaplacianEditingResult:
-    r"""Move the handles to their targets; every vertex's Laplacian coordinate follows the
-    local rotation and scale of its neighbourhood (Laplacian surface editing).
+    r"""Laplacian surface editing (linearised per-vertex similarities).
+
+    Laplacian coordinates that rotate and scale with the surface: min Σ‖T_i(x') δ_i − L(x')_i‖² with
+    each T_i the linearised similarity fitted to the vertex's one-ring, handles fixed; one sparse
+    least-squares solve.
 
     With the rest shape's Laplacian coordinates :math:`\delta_i = L(p)_i`, solve
 

@@ -25,7 +25,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.threads import single_blas_thread
+from algorithms.core.threads import query_workers, single_blas_thread
 from algorithms.core.types import FloatArray, IntArray, IntpArray, KnnQuery
 from algorithms.core.validation import as_int, as_points
 
@@ -50,7 +50,7 @@ def _embedded_neighbours(y: FloatArray, k: int) -> IntpArray:
     """Each point's ``k`` nearest neighbours in the embedding, itself excluded (with
     coincident images it may sit anywhere among the ``k + 1`` found, or not at all)."""
     n: int = y.shape[0]
-    _, nbr = cast(KnnQuery, cKDTree(y).query(y, k=k + 1))
+    _, nbr = cast(KnnQuery, cKDTree(y).query(y, k=k + 1, workers=query_workers(n)))
     nbr = nbr.reshape(n, k + 1)
     own = nbr == np.arange(n)[:, None]
     own[~own.any(axis=1), -1] = True
@@ -133,7 +133,7 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5,
             return _score(_outsider_ranks_from_lists(x, nbr, d2, lists, k), n, k)
     # only embedded neighbours that are not among the k nearest inputs have rank > k
     tree = cKDTree(x)
-    _, true = tree.query(x, k=k + 1)
+    _, true = tree.query(x, k=k + 1, workers=query_workers(n))
     true = true.reshape(n, k + 1)
     member = (nbr[:, :, None] == true[:, None, :]).any(axis=2)
     rows = np.flatnonzero(~member.all(axis=1))
@@ -144,17 +144,18 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5,
     sq = np.einsum("ij,ij->i", x, x)
     total = 0.0
     chunk = max(1, min(_CHUNK, 20_000_000 // n))
-    for start in range(0, rows.size, chunk):
-        r = rows[start:start + chunk]
-        d = sq[r, None] - 2.0 * (x[r] @ x.T) + sq[None, :]
-        d[np.arange(r.size), r] = np.inf  # a point is not its own neighbour
-        dn = np.take_along_axis(d, nbr[r], axis=1)  # (m, k)
-        # rank r(i, j) = 1 + #{l : d(i, l) < d(i, j)}, for the outsiders only
-        for c in range(k):
-            out = ~member[r, c]
-            if out.any():
-                ranks = 1 + (d[out] < dn[out, c][:, None]).sum(axis=1)
-                total += float(np.maximum(ranks - k, 0).sum())
+    with single_blas_thread():  # thin (chunk, D) @ (D, n) products: the thread policy
+        for start in range(0, rows.size, chunk):
+            r = rows[start:start + chunk]
+            d = sq[r, None] - 2.0 * (x[r] @ x.T) + sq[None, :]
+            d[np.arange(r.size), r] = np.inf  # a point is not its own neighbour
+            dn = np.take_along_axis(d, nbr[r], axis=1)  # (m, k)
+            # rank r(i, j) = 1 + #{l : d(i, l) < d(i, j)}, for the outsiders only
+            for c in range(k):
+                out = ~member[r, c]
+                if out.any():
+                    ranks = 1 + (d[out] < dn[out, c][:, None]).sum(axis=1)
+                    total += float(np.maximum(ranks - k, 0).sum())
     return _score(total, n, k)
 
 
@@ -163,9 +164,10 @@ def _outsider_ranks_by_tree(x: FloatArray, tree: cKDTree, nbr: Any, member: Any,
     """The sum of ``max(0, r(i, j) - k)`` over the embedded neighbours ``j`` of ``i`` that
     are not among its ``k`` nearest inputs, each rank counted over the input points inside
     a kd-tree ball of radius ``d(i, j)`` (slightly enlarged: the count itself compares the
-    squared differences ``d(i, l)^2 < d(i, j)^2``, computed the same way for both). None
-    when the balls hold more than ``limit`` points (bad embeddings: full rows are
-    cheaper)."""
+    squared differences ``d(i, l)^2 < d(i, j)^2``, computed the same way for both). The
+    balls are only counted (in C) unless another point lies within a relative ``1e-9`` of
+    ``d(i, j)``; only those near-ties list the ball's members. None when the balls hold
+    more than ``limit`` points (bad embeddings: full rows are cheaper)."""
     oi, oc = np.nonzero(~member)
     if oi.size == 0:
         return 0.0
@@ -180,7 +182,14 @@ def _outsider_ranks_by_tree(x: FloatArray, tree: cKDTree, nbr: Any, member: Any,
     counts = tree.query_ball_point(x[oi], radius, return_length=True)
     if int(counts.sum()) > limit:
         return None
-    total = 0.0
+    # Counted inside the ball shrunk by the same margin, every point but the centre is
+    # closer than j for sure: when j is the only point between the two spheres, the rank
+    # is that count (the centre stands for j). Only near-ties need the members' distances.
+    inner = tree.query_ball_point(x[oi], np.sqrt(d2) * (1.0 - 1e-9), return_length=True)
+    clear = (counts - inner == 1) & (d2 > 0)
+    total = float(np.maximum(inner[clear] - k, 0).sum())
+    keep = ~clear
+    oi, d2, radius, counts = oi[keep], d2[keep], radius[keep], counts[keep]
     ends = np.cumsum(counts)
     start = 0
     while start < oi.size:

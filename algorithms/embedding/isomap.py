@@ -5,7 +5,7 @@ from __future__ import annotations
 import heapq
 import math
 from dataclasses import dataclass
-from typing import Annotated, Literal, cast
+from typing import Annotated, Any, Literal, cast
 
 import numpy as np
 import scipy.linalg as la
@@ -13,7 +13,13 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
-from algorithms.core.graphs import Neighbors, NNeighbors, Radius, neighbour_graph
+from algorithms.core.graphs import (
+    Neighbors,
+    NNeighbors,
+    Radius,
+    check_neighbour_params,
+    neighbour_graph,
+)
 from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import BoolArray, FloatArray, IntArray
@@ -21,7 +27,7 @@ from algorithms.core.validation import as_int, as_points
 from algorithms.embedding._quality import trustworthiness
 from algorithms.layout.mds import classical_coordinates
 
-__all__ = ["IsomapResult", "isomap", "MAX_ISOMAP_POINTS", "EdgeLength"]
+__all__ = ["check_isomap", "IsomapResult", "isomap", "MAX_ISOMAP_POINTS", "EdgeLength"]
 
 EdgeLength = Literal["distance", "uniform"]
 """The length of a graph edge in the shortest paths: the distance between its ends, or 1."""
@@ -71,6 +77,18 @@ class IsomapResult:
     trustworthiness: float
 
 
+def check_isomap(points: Any, n_components: Any, neighbors: str = "knn",
+                 n_neighbors: Any = None, radius: Any = None) -> tuple[FloatArray, int]:
+    """Check the inputs of :func:`isomap`: 2 to :data:`MAX_ISOMAP_POINTS` points (the
+    geodesic distances are an n×n matrix), neighbour-graph parameters that fit them,
+    ``n_components`` at most their number. Returns the points and ``n_components``."""
+    x = as_points(points, name="points", min_points=2, max_points=MAX_ISOMAP_POINTS)
+    check_neighbour_params(x.shape[0], neighbors, n_neighbors, radius)
+    k = as_int(n_components, name="n_components", minimum=1, maximum=x.shape[0],
+               reason="the number of `points`")
+    return x, k
+
+
 @validate_params
 def isomap(
     points: PointsLike,
@@ -82,7 +100,11 @@ def isomap(
     weighting: EdgeLength = "distance",
     quality_neighbors: Annotated[int, Ge(1)] = 5,
 ) -> IsomapResult:
-    r"""Isomap (Tenenbaum, de Silva and Langford 2000).
+    r"""Isomap.
+
+    Classical MDS of geodesic distances: shortest paths along the neighbourhood graph (Dijkstra),
+    then the top eigenvectors of −½JG⁽²⁾J. A disconnected graph is an error that says into how many
+    components it falls. Reports eigenvalues and trustworthiness.
 
     1. A neighbourhood graph on the points (``neighbors``), each edge as long as the
        distance between its ends (``weighting="distance"``) or 1 (``"uniform"``: hops);
@@ -96,7 +118,9 @@ def isomap(
         The data, one row per point; at least 2 (and more than ``n_neighbors``) and at
         most 10,000 points (the method keeps the ``n×n`` geodesic distances).
     n_components : int, default 2
-        The dimension ``k`` of the embedding, ``1 <= k <= n``.
+        The dimension ``k`` of the embedding, ``1 <= k <= n``. It may exceed the dimension
+        ``D`` of the points (geodesic distances need not be Euclidean in ``D``), as in
+        scikit-learn's ``Isomap``.
     neighbors : {"knn", "radius", "all"}, default "knn"
         The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
         nearest (either way round), ``"radius"`` every pair closer than ``radius``,
@@ -172,10 +196,7 @@ def isomap(
     >>> round(float(y.max() - y.min() - chords), 9)
     0.0
     """
-    x = as_points(points, name="points", min_points=2, max_points=MAX_ISOMAP_POINTS)
-    n = x.shape[0]
-    k = as_int(n_components, name="n_components", minimum=1, maximum=n,
-               reason="the number of `points`")
+    x, k = check_isomap(points, n_components, neighbors, n_neighbors, radius)
     g = neighbour_graph(x, neighbors=neighbors, n_neighbors=n_neighbors, radius=radius,
                         connected="isomap")
     if weighting == "uniform":

@@ -17,15 +17,16 @@ from algorithms.core.graphs import (
     Radius,
     check_connected,
     check_n_neighbors,
+    check_neighbour_graph,
     nearest_sorted,
 )
 from algorithms.core.params import Ge, PointsLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_int, as_points
+from algorithms.core.validation import as_int
 from algorithms.embedding._quality import fix_signs, trustworthiness
 from algorithms.embedding.laplacian_eigenmaps import _smallest
 
-__all__ = ["LLEResult", "lle", "barycenter_weights", "Neighbourhood"]
+__all__ = ["check_lle", "LLEResult", "lle", "barycenter_weights", "Neighbourhood"]
 
 Neighbourhood = Literal["knn", "radius"]
 """Each point's own neighbours in LLE: its ``n_neighbors`` nearest, or all within ``radius``."""
@@ -104,6 +105,21 @@ def barycenter_weights(x: FloatArray, neighbours: list[np.ndarray] | np.ndarray,
                                                   np.concatenate(cols_l))), shape=(n, n))
 
 
+def check_lle(points: Any, n_components: Any, neighbors: str = "knn",
+              n_neighbors: Any = None, radius: Any = None) -> tuple[FloatArray, int]:
+    """Check the inputs of :func:`lle`: at least 3 points, neighbour-graph parameters
+    that fit them, ``n_components`` at most their number minus 2 (the eigenvectors after
+    the trivial one, and fewer than all) and at most their dimension (as scikit-learn's
+    ``LocallyLinearEmbedding``: the weights reconstruct each point in ``D`` dimensions).
+    Returns the points and ``n_components``."""
+    x = check_neighbour_graph(points, neighbors, n_neighbors, radius, min_points=3)
+    n, d = x.shape
+    reason = "the dimension of `points`" if d < n - 2 else "the number of `points` minus two"
+    k = as_int(n_components, name="n_components", minimum=1, maximum=min(d, n - 2),
+               reason=reason)
+    return x, k
+
+
 @validate_params
 def lle(
     points: PointsLike,
@@ -115,7 +131,11 @@ def lle(
     regularization: Annotated[float, Ge(0)] = 1e-3,
     quality_neighbors: Annotated[int, Ge(1)] = 5,
 ) -> LLEResult:
-    r"""Locally linear embedding (Roweis and Saul 2000), standard variant.
+    r"""Locally linear embedding.
+
+    Sum-to-one weights reconstructing each point from its neighbours (regularised), then the bottom
+    non-trivial eigenvectors of (I − W)ᵀ(I − W). Reports eigenvalues, the reconstruction error in
+    the embedding and of the weights, and trustworthiness.
 
     1. Neighbours of each point: its ``n_neighbors`` nearest (``"knn"``, each point's own
        list, not symmetrised) or all within ``radius``; no edge weights are chosen.
@@ -130,7 +150,8 @@ def lle(
     points : (n, D) float array
         The data, one row per point; at least 3 points.
     n_components : int, default 2
-        The dimension ``k`` of the embedding, ``1 <= k <= n - 2``.
+        The dimension ``k`` of the embedding, ``1 <= k <= min(D, n - 2)`` (scikit-learn's
+        bound ``k <= D`` too).
     neighbors : {"knn", "radius"}, default "knn"
         The points each point is reconstructed from: ``"knn"`` its own ``n_neighbors``
         nearest (not symmetrised), ``"radius"`` all within ``radius``.
@@ -160,7 +181,7 @@ def lle(
     ------
     InvalidInputError
         Bad ``points``; ``n_neighbors`` outside ``[1, n - 1]`` (fewer points than
-        neighbours); ``n_components`` outside ``[1, n - 2]``; ``neighbors="all"`` or
+        neighbours); ``n_components`` outside ``[1, min(D, n - 2)]``; ``neighbors="all"`` or
         unknown; ``radius`` missing or not positive; negative ``regularization``.
     DegenerateInputError
         A singular local Gram matrix with ``regularization=0``; a point without neighbours
@@ -210,10 +231,8 @@ def lle(
     >>> bool(np.all(np.diff(y) > 0) or np.all(np.diff(y) < 0))
     True
     """
-    x = as_points(points, name="points", min_points=3)
+    x, k = check_lle(points, n_components, neighbors, n_neighbors, radius)
     n = x.shape[0]
-    k = as_int(n_components, name="n_components", minimum=1, maximum=n - 2,
-               reason="the number of `points` minus two")
     reg = regularization
     tree = cKDTree(x)
     if neighbors == "knn":

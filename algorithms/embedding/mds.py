@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated
+from typing import Annotated, Any
 
 import numpy as np
 from scipy.spatial.distance import pdist, squareform
@@ -17,7 +17,7 @@ from algorithms.embedding._quality import trustworthiness
 from algorithms.layout.mds import classical_coordinates, raw_stress
 from algorithms.layout.stress import stress as smacof
 
-__all__ = ["EmbeddingMDSResult", "mds"]
+__all__ = ["check_mds", "EmbeddingMDSResult", "mds"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,6 +54,15 @@ class EmbeddingMDSResult:
     trustworthiness: float
 
 
+def check_mds(points: Any, n_components: Any) -> tuple[FloatArray, int]:
+    """Check the inputs of :func:`mds`: 2 to ``MAX_DENSE_POINTS`` points (the distances are
+    kept as an n×n matrix), ``n_components`` at most their number. Returns both."""
+    x = as_points(points, name="points", min_points=2, max_points=MAX_DENSE_POINTS)
+    k = as_int(n_components, name="n_components", minimum=1, maximum=x.shape[0],
+               reason="the number of `points`")
+    return x, k
+
+
 @validate_params
 def mds(
     points: PointsLike,
@@ -65,7 +74,11 @@ def mds(
     quality_neighbors: Annotated[int, Ge(1)] = 5,
     progress: Progress | None = None,
 ) -> EmbeddingMDSResult:
-    r"""Classical (Torgerson) or metric (SMACOF) multidimensional scaling of points.
+    r"""Multidimensional scaling (classical or metric).
+
+    Classical MDS: the top eigenvectors of the double-centred squared distances −½JD⁽²⁾J (for
+    Euclidean input the PCA scores); optionally refined by SMACOF stress majorization. Reports
+    eigenvalues, raw and normalized stress, trustworthiness.
 
     **Classical** (default): with the squared distances :math:`D^{(2)}` and the centring
     :math:`J = I - \tfrac1n \mathbf 1 \mathbf 1^\mathsf{T}`, the Gram matrix
@@ -82,7 +95,9 @@ def mds(
         The data, one row per point; at least 2 and at most 4,000 points (the method
         keeps dense ``n×n`` matrices).
     n_components : int, default 2
-        The dimension ``k`` of the embedding, ``1 <= k <= n``.
+        The dimension ``k`` of the embedding, ``1 <= k <= n``. It may exceed the dimension
+        ``D`` of the points, as in scikit-learn's ``ClassicalMDS`` and ``MDS``: the classical
+        coordinates beyond the rank of the centred points are then zero.
     metric : bool, default False
         False: classical MDS only (scikit-learn's ``ClassicalMDS``). True: refine the
         classical embedding by SMACOF, which minimises the raw stress (scikit-learn's
@@ -93,7 +108,9 @@ def mds(
         embedding).
     tolerance : float, default 1e-6
         SMACOF stops when one iteration lowers the stress by less than this fraction of
-        it; used only with ``metric=True``.
+        the embedding's squared distances' sum
+        :math:`\eta^2(X) = \sum_{i<j} \lVert x_i - x_j \rVert^2` (scikit-learn's rule from
+        1.7, as :func:`algorithms.layout.stress`); used only with ``metric=True``.
     quality_neighbors : int, default 5
         The neighbourhood size of the reported trustworthiness (clipped to
         ``(n - 1) // 2`` when larger).
@@ -136,10 +153,7 @@ def mds(
     >>> round(float(np.linalg.norm(y[1] - y[2])), 9)
     5.0
     """
-    x = as_points(points, name="points", min_points=2, max_points=MAX_DENSE_POINTS)
-    n = x.shape[0]
-    k = as_int(n_components, name="n_components", minimum=1, maximum=n,
-               reason="the number of `points`")
+    x, k = check_mds(points, n_components)
     d = squareform(pdist(x))
     y, eigenvalues = classical_coordinates(d * d, k)
     iterations, converged = 0, True

@@ -5,18 +5,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from scipy.spatial.distance import pdist
 
+from algorithms.core.errors import InvalidInputError
 from algorithms.core.params import Ge, Interval, PointsLike, Seed, validate_params
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import as_points
 from algorithms.embedding._quality import trustworthiness
 from algorithms.embedding.pca import check_linear_components
 
-__all__ = ["RandomProjectionResult", "random_projection", "MatrixKind"]
+__all__ = ["check_random_projection", "RandomProjectionResult", "random_projection", "MatrixKind"]
 
 MatrixKind = Literal["gaussian", "sparse"]
 """The entries of the random matrix: Gaussian, or sparse signs (Achlioptas; Li et al.)."""
@@ -49,6 +50,19 @@ class RandomProjectionResult:
     trustworthiness: float
 
 
+def check_random_projection(points: Any, n_components: Any, kind: str = "gaussian",
+                            density: float | None = None) -> tuple[FloatArray, int]:
+    """Check the inputs of :func:`random_projection`: ``n_components`` at most the points'
+    dimension and number (:func:`check_linear_components`); ``density`` only with
+    ``kind="sparse"``. Returns the points and ``n_components``."""
+    x = as_points(points, name="points", min_points=1)
+    k = check_linear_components(n_components, *x.shape)
+    if density is not None and kind != "sparse":
+        raise InvalidInputError("Expected `density` only with kind = 'sparse'.",
+                                field="density")
+    return x, k
+
+
 @validate_params
 def random_projection(
     points: PointsLike,
@@ -59,7 +73,11 @@ def random_projection(
     seed: Seed = 0,
     quality_neighbors: Annotated[int, Ge(1)] = 5,
 ) -> RandomProjectionResult:
-    r"""Project points by a random matrix (Gaussian, or sparse as Achlioptas and Li et al.).
+    r"""Random projection (Johnson–Lindenstrauss).
+
+    Maps the points by a random k×D matrix, Gaussian or sparse, that keeps squared distances in
+    expectation. Reports the matrix, the largest relative distortion of squared distances and
+    trustworthiness.
 
     * ``"gaussian"``: :math:`R_{cj} \sim \mathcal N(0, 1/k)`;
     * ``"sparse"``: :math:`R_{cj} = \pm\sqrt{s/k}` with probability :math:`1/(2s)` each and
@@ -125,9 +143,8 @@ def random_projection(
     >>> res.embedding.shape, res.components.shape
     ((50, 40), (40, 100))
     """
-    x = as_points(points, name="points", min_points=1)
+    x, k = check_random_projection(points, n_components, kind, density)
     n, dim = x.shape
-    k = check_linear_components(n_components, n, dim)
     rng = np.random.default_rng(seed)
     if kind == "gaussian":
         r = rng.normal(0.0, 1.0 / math.sqrt(k), size=(k, dim))

@@ -4,7 +4,7 @@ that t-SNE replaces by a Student-t one; exact gradient over all pairs, so small 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated
+from typing import Annotated, Any
 
 import numpy as np
 
@@ -24,7 +24,7 @@ from algorithms.embedding.tsne import (
     initial_embedding,
 )
 
-__all__ = ["SNEResult", "sne", "MAX_SNE_POINTS", "check_size"]
+__all__ = ["check_sne", "SNEResult", "sne", "MAX_SNE_POINTS", "check_size"]
 
 #: Most points: every step visits all pairs (O(n²) time; memory in blocks of rows).
 MAX_SNE_POINTS = 5_000
@@ -92,6 +92,15 @@ def check_size(n: int) -> None:
                                 f"gradient).", field="points")
 
 
+def check_sne(points: Any, perplexity: float, learning_rate: float | str = "auto"
+              ) -> tuple[FloatArray, float | None]:
+    """Check the inputs of :func:`sne`: the data as t-SNE's ``check_common`` takes it, at
+    most :data:`MAX_SNE_POINTS` points. Returns the points and the learning rate."""
+    x, lr = check_common(points, perplexity=perplexity, learning_rate=learning_rate)
+    check_size(x.shape[0])
+    return x, lr
+
+
 @validate_params
 def sne(
     points: PointsLike,
@@ -108,7 +117,11 @@ def sne(
     quality_neighbors: Annotated[int, Ge(1)] = 5,
     progress: Progress | None = None,
 ) -> SNEResult:
-    r"""Symmetric SNE (van der Maaten and Hinton 2008, §3.1; Hinton and Roweis 2002).
+    r"""Symmetric SNE (stochastic neighbour embedding).
+
+    t-SNE's input affinities with a Gaussian kernel in the embedding too (the light tails crowd
+    clusters together: t-SNE's motivation); exact all-pairs gradient, at most 5,000 points. Reports
+    KL, trustworthiness and iterations. Progress every iteration, cancellable.
 
     The input affinities are t-SNE's (perplexity-calibrated Gaussians over all pairs,
     symmetrised, :math:`p_{ij} = (p_{j|i} + p_{i|j}) / 2n`); the embedding's are Gaussian
@@ -197,8 +210,7 @@ def sne(
     ((60, 2), True)
     """
     report = as_progress(progress)
-    x, lr = check_common(points, perplexity=perplexity, learning_rate=learning_rate)
-    check_size(x.shape[0])
+    x, lr = check_sne(points, perplexity, learning_rate)
     k, perp, iters = n_components, perplexity, max_iterations
     rng = np.random.default_rng(seed)
     y = initial_embedding(x, k, init, rng)

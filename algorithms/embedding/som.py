@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import typing
 from dataclasses import dataclass
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import scipy.linalg as la
@@ -17,7 +17,7 @@ from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_points
 from algorithms.embedding._quality import trustworthiness
 
-__all__ = ["SOMResult", "som", "check_grid", "Training", "Start", "INITS", "METHODS"]
+__all__ = ["check_som", "SOMResult", "som", "check_grid", "Training", "Start", "INITS", "METHODS"]
 
 Training = Literal["online", "batch"]
 """How a SOM is trained: Kohonen's rule one sample at a time, or the batch map."""
@@ -61,6 +61,14 @@ class SOMResult:
     iterations: int
 
 
+def check_som(points: Any, rows: int, columns: int) -> FloatArray:
+    """Check the inputs of :func:`som`: at least 2 points and a grid of at least 2 nodes
+    (:func:`check_grid`). Returns the points."""
+    x = as_points(points, name="points", min_points=2)
+    check_grid(rows, columns)
+    return x
+
+
 @validate_params
 def som(
     points: PointsLike,
@@ -75,7 +83,12 @@ def som(
     seed: Seed = 0,
     progress: Progress | None = None,
 ) -> SOMResult:
-    r"""Train a self-organising map on a ``rows × columns`` grid and embed the points on it.
+    r"""Self-organising map.
+
+    A rows × columns grid of nodes pulled onto the data (Kohonen's online rule or the batch map);
+    each point is embedded at its best-matching node's grid position. Reports the codebook,
+    quantization and topographic errors and trustworthiness. Progress per 1 % of the steps,
+    cancellable.
 
     Each node :math:`j` has a grid position :math:`g_j` and a data-space position
     :math:`w_j`. Online training (Kohonen) presents one point :math:`x` at step :math:`t`,
@@ -157,10 +170,9 @@ def som(
     [0, 0, 1, 1]
     """
     report = as_progress(progress)
-    x = as_points(points, name="points", min_points=2)
+    x = check_som(points, rows, columns)
     n, d = x.shape
     r, c = rows, columns
-    check_grid(r, c)
     eta0 = learning_rate
     s0 = max(1.0, max(r, c) / 2.0) if sigma is None else sigma
     if max_iterations is None:

@@ -18,14 +18,14 @@ from scipy.spatial import cKDTree
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.params import Ge, Gt, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.threads import single_blas_thread
+from algorithms.core.threads import query_workers, single_blas_thread
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_points
 from algorithms.embedding._fft_gradients import repulsion_fft
 from algorithms.embedding._quality import _screen, fix_signs, trustworthiness
 
-__all__ = ["TSNEResult", "tsne", "Method", "Start", "LearningRate", "METHODS", "INITS",
-           "MAX_EXACT_POINTS", "AUTO_EXACT_BELOW", "check_perplexity", "resolve_method"]
+__all__ = ["TSNEResult", "tsne", "check_tsne", "Method", "Start", "LearningRate", "METHODS",
+           "INITS", "MAX_EXACT_POINTS", "AUTO_EXACT_BELOW", "check_perplexity", "resolve_method"]
 
 Method = Literal["auto", "exact", "fft"]
 """How t-SNE computes its gradient: all pairs, or the repulsion by FFT interpolation."""
@@ -147,7 +147,7 @@ def _nearest_neighbors(x: FloatArray, k: int) -> tuple[FloatArray, IntArray]:
     n, dim = x.shape
     xc = x - x.mean(axis=0)
     if dim <= _KDTREE_MAX_DIM:
-        _, found = cKDTree(xc).query(xc, k=k + 1)
+        _, found = cKDTree(xc).query(xc, k=k + 1, workers=query_workers(n))
         found = found.reshape(n, k + 1)
         own = found == np.arange(n)[:, None]
         own[~own.any(axis=1), -1] = True      # coincident points: self not returned
@@ -511,6 +511,16 @@ def check_common(points: Any, *, perplexity: float, learning_rate: float | str
     return x, lr
 
 
+def check_tsne(points: Any, perplexity: float, method: str = "auto", n_components: int = 2,
+               learning_rate: float | str = "auto"
+               ) -> tuple[FloatArray, float | None, Literal["exact", "fft"]]:
+    """Check the inputs of :func:`tsne`: the data as :func:`check_common` takes it, and a
+    gradient method that takes its size and ``n_components`` (:func:`resolve_method`).
+    Returns the points, the learning rate (None for ``"auto"``) and the method."""
+    x, lr = check_common(points, perplexity=perplexity, learning_rate=learning_rate)
+    return x, lr, resolve_method(method, x.shape[0], n_components)
+
+
 @validate_params
 def tsne(
     points: PointsLike,
@@ -528,7 +538,13 @@ def tsne(
     quality_neighbors: Annotated[int, Ge(1)] = 5,
     progress: Progress | None = None,
 ) -> TSNEResult:
-    r"""t-SNE (van der Maaten and Hinton 2008).
+    r"""t-SNE (t-distributed stochastic neighbour embedding).
+
+    Perplexity-calibrated Gaussian affinities (binary search per point), Cauchy affinities in the
+    embedding, KL(P‖Q) minimised by gradient descent with momentum, gains and early exaggeration;
+    exact all-pairs gradient for small inputs, FFT-interpolated repulsion (FIt-SNE) for up to
+    100,000s of points. Reports KL, trustworthiness and iterations. Progress every iteration,
+    cancellable.
 
     Input affinities: for each point a Gaussian over its neighbours, its precision
     :math:`\beta_i` found by binary search so that the perplexity :math:`2^{H(P_i)}`
@@ -688,9 +704,8 @@ def tsne(
     ('exact', (60, 2), True)
     """
     report = as_progress(progress)
-    x, lr = check_common(points, perplexity=perplexity, learning_rate=learning_rate)
+    x, lr, method = check_tsne(points, perplexity, method, n_components, learning_rate)
     k, perp, iters = n_components, perplexity, max_iterations
-    method = resolve_method(method, x.shape[0], k)
     rng = np.random.default_rng(seed)
     given = not isinstance(init, str)
     if isinstance(init, str):  # "pca" or "random": checked by the signature

@@ -32,7 +32,7 @@ from scipy.spatial.transform import Rotation
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_mesh
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
-from algorithms.core.validation import MAX_COORDINATE, as_indices, as_points, check_keys
+from algorithms.core.validation import MAX_COORDINATE, as_indices, as_int, as_points, check_keys
 
 __all__ = [
     "DEFAULT_TIMES",
@@ -44,6 +44,9 @@ __all__ = [
     "read_transform",
     "read_pair",
     "check_frame_count",
+    "check_pair",
+    "check_anchor",
+    "check_anchored",
     "rotation_log",
     "rotation_exp",
     "edges_of",
@@ -401,3 +404,31 @@ def surface_triangles(vertices: FloatArray, faces: IntArray) -> IntArray | None:
     _, inv, counts = np.unique(row_keys(np.sort(tris, axis=1), vertices.shape[0]),
                                return_inverse=True, return_counts=True)
     return np.ascontiguousarray(tris[counts[inv.ravel()] == 1])
+
+
+def check_pair(source: Any, target: Any = None, transform: Any = None, times: Any = None, *,
+               need_faces: bool = False) -> tuple[Pair, FloatArray]:
+    """Check what every interpolation takes: the start and end shapes (:func:`read_pair`)
+    and ``times`` (:func:`read_times`), their frames within :data:`MAX_FRAME_VALUES`.
+    Returns the pair and the times."""
+    pair = read_pair(source, target, transform, need_faces=need_faces)
+    t = read_times(times)
+    check_frame_count(pair.n, pair.dim, t)
+    return pair, t
+
+
+def check_anchor(anchor: Any, n: int) -> int:
+    """``anchor``, the vertex held on its straight path: a vertex index of the source's
+    ``n``."""
+    return as_int(anchor, name="anchor", minimum=0, maximum=n - 1,
+                  reason="a vertex index of `source`")
+
+
+def check_anchored(source: Any, target: Any = None, transform: Any = None, times: Any = None,
+                   anchor: Any = 0) -> tuple[Pair, FloatArray]:
+    """Check the inputs of the per-face interpolations (``arap``, ``poisson``): meshes as
+    :func:`check_pair` takes them and an ``anchor`` among the source's vertices (:func:
+    `check_anchor`). Returns the pair and the times."""
+    pair, t = check_pair(source, target, transform, times, need_faces=True)
+    check_anchor(anchor, pair.n)
+    return pair, t

@@ -48,8 +48,13 @@ from algorithms.core.linsolve import PinnedSystem
 from algorithms.core.mesh import components
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.core.validation import as_int
-from algorithms.interpolation._common import Pair, rotation_exp, rotation_log, row_keys
+from algorithms.interpolation._common import (
+    Pair,
+    check_anchor,
+    rotation_exp,
+    rotation_log,
+    row_keys,
+)
 
 __all__ = [
     "face_frames",
@@ -194,8 +199,7 @@ def unwrap_rotations(w: FloatArray, adjacency: sp.csr_array) -> FloatArray:
 def anchors_of(n: int, f: IntArray, anchor: Any) -> IntArray:
     """One vertex per connected component: ``anchor`` in its own, the lowest-numbered
     vertex in every other one (vertices no face uses are components of their own)."""
-    a = as_int(anchor, name="anchor", minimum=0, maximum=n - 1,
-               reason="a vertex index of `source`")
+    a = check_anchor(anchor, n)
     k = f.shape[1]
     pairs = np.concatenate([f[:, [i, j]] for i in range(k) for j in range(i + 1, k)])
     count, labels = components(n, pairs)

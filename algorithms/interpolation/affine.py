@@ -5,7 +5,7 @@ linearly."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal, get_args
+from typing import Any, Literal, get_args
 
 import numpy as np
 
@@ -15,18 +15,17 @@ from algorithms.core.linalg import batched_polar, det, homogeneous
 from algorithms.core.params import ArrayInput, ShapeLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.interpolation._common import (
-    check_frame_count,
+    Pair,
+    check_pair,
     edge_errors,
     edges_of,
     pivot_of,
-    read_pair,
-    read_times,
     rotation_exp,
     rotation_log,
 )
 
-__all__ = ["AffineInterpolationResult", "affine", "Reflection", "Pivot", "REFLECTIONS",
-           "PIVOTS"]
+__all__ = ["AffineInterpolationResult", "affine", "check_affine", "Reflection", "Pivot",
+           "REFLECTIONS", "PIVOTS"]
 
 Reflection = Literal["refuse", "flip"]
 """What to do with a map that mirrors (``det A < 0``)."""
@@ -85,6 +84,36 @@ class AffineInterpolationResult:
     reflection: bool
 
 
+def check_affine(source: Any, target: Any = None, transform: Any = None, times: Any = None,
+                 reflection: str = "refuse"
+                 ) -> tuple[Pair, FloatArray,
+                            tuple[FloatArray, FloatArray, FloatArray, float, float]]:
+    """Check the inputs of :func:`affine`: the shapes and times (:func:`check_pair`), and a
+    map (given, or fitted to ``target``) that keeps orientation unless
+    ``reflection="flip"``. Returns the pair, the times and the map: its linear part, its
+    translation, the residual of the fit, its RMSE and the determinant of the linear part."""
+    pair, t = check_pair(source, target, transform, times)
+    d = pair.dim
+    src = pair.source
+    if pair.transform is not None:
+        a, b = pair.transform[:d, :d], pair.transform[:d, d]
+        residual = np.zeros_like(src)
+        rmse = 0.0
+        field = "transform"
+    else:
+        fit = fit_affine(src, pair.target)
+        a, b, rmse = fit.linear, fit.translation, float(fit.rmse)
+        residual = pair.target - (src @ a.T + b)
+        field = "target"
+    det_a = float(det(a))
+    if det_a < 0 and reflection == "refuse":
+        raise DegenerateInputError(
+            f"Expected the map to `{field}` to keep orientation (det A > 0), got a reflection "
+            f"(det A = {det_a:.6g}): no path of invertible maps reaches a mirror image; pass "
+            f"reflection='flip' to pass through a flattened shape once.", field=field)
+    return pair, t, (a, b, residual, rmse, det_a)
+
+
 @validate_params
 def affine(
     source: ShapeLike,
@@ -95,7 +124,11 @@ def affine(
     reflection: Reflection = "refuse",
     pivot: Pivot = "centroid",
 ) -> AffineInterpolationResult:
-    r"""Interpolate between ``source`` and its image under an affine map.
+    r"""Affine interpolation by polar decomposition.
+
+    A = R S (polar decomposition); R turns along the shortest arc (slerp), S and the translation
+    move linearly, so det A(t) > 0 all along the path. The map is given or fitted to the target (its
+    residual blended in, so t = 1 is the target).
 
     The map :math:`p \mapsto A p + b` is the ``transform`` given, or the least-squares fit
     to ``target`` (:func:`algorithms.alignment.affine`). With the polar decomposition
@@ -198,27 +231,10 @@ def affine(
     >>> round(res.angle, 12), res.det.round(12).tolist()
     (1.570796326795, [1.0, 1.0, 1.0])
     """
-    pair = read_pair(source, target, transform)
-    t = read_times(times)
-    check_frame_count(pair.n, pair.dim, t)
+    pair, t, (a, b, residual, rmse, det_a) = check_affine(source, target, transform, times,
+                                                          reflection)
     d = pair.dim
     src = pair.source
-    if pair.transform is not None:
-        a, b = pair.transform[:d, :d], pair.transform[:d, d]
-        residual = np.zeros_like(src)
-        rmse = 0.0
-        field = "transform"
-    else:
-        fit = fit_affine(src, pair.target)
-        a, b, rmse = fit.linear, fit.translation, float(fit.rmse)
-        residual = pair.target - (src @ a.T + b)
-        field = "target"
-    det_a = float(det(a))
-    if det_a < 0 and reflection == "refuse":
-        raise DegenerateInputError(
-            f"Expected the map to `{field}` to keep orientation (det A > 0), got a reflection "
-            f"(det A = {det_a:.6g}): no path of invertible maps reaches a mirror image; pass "
-            f"reflection='flip' to pass through a flattened shape once.", field=field)
     rot, stretch = batched_polar(a, proper=True)
     w = rotation_log(rot)
     c = pivot_of(src, pivot)

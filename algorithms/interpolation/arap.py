@@ -13,11 +13,9 @@ from algorithms.core.params import ArrayInput, Ge, ShapeLike, validate_params
 from algorithms.core.progress import Progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.interpolation._common import (
-    check_frame_count,
+    check_anchored,
     edge_errors,
     edges_of,
-    read_pair,
-    read_times,
 )
 from algorithms.interpolation._faces import FacePath, face_dets
 
@@ -67,7 +65,11 @@ def arap(
     anchor: Annotated[int, Ge(0)] = 0,
     progress: Progress | None = None,
 ) -> ArapInterpolationResult:
-    r"""Interpolate between two meshes with the same connectivity as rigidly as possible.
+    r"""As-rigid-as-possible shape interpolation.
+
+    Per face, A_f = R_f S_f interpolated as slerp(R_f) lerp(I, S_f); the vertices of each frame
+    solve min Σ_f ‖B_f(x) − A_f(t)‖² with one vertex on its straight path (one factored sparse
+    system, one solve per frame).
 
     Each face's affine map :math:`A_f` from source to target (see the module docstring of
     :mod:`algorithms.interpolation._faces`: the face's edges, plus the normal as third
@@ -158,9 +160,7 @@ def arap(
     >>> bool(res.max_edge_error.max() < 1e-12), round(res.max_angle, 12)
     (True, 1.570796326795)
     """
-    pair = read_pair(source, target, transform, need_faces=True)
-    t = read_times(times)
-    check_frame_count(pair.n, pair.dim, t)
+    pair, t = check_anchored(source, target, transform, times, anchor)
     rotations, stretch = FacePath.decompose(pair)
     path = FacePath(pair, np.ones(pair.faces.shape[0]), rotations, stretch, anchor=anchor,
                     solves=t.shape[0])

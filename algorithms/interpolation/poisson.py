@@ -14,11 +14,9 @@ from algorithms.core.params import ArrayInput, Ge, ShapeLike, validate_params
 from algorithms.core.progress import Progress
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.interpolation._common import (
-    check_frame_count,
+    check_anchored,
     edge_errors,
     edges_of,
-    read_pair,
-    read_times,
 )
 from algorithms.interpolation._faces import (
     FacePath,
@@ -74,8 +72,11 @@ def poisson(
     anchor: Annotated[int, Ge(0)] = 0,
     progress: Progress | None = None,
 ) -> PoissonInterpolationResult:
-    r"""Interpolate between two meshes with the same connectivity by solving a Poisson
-    equation per frame.
+    r"""Poisson shape interpolation.
+
+    Per-face gradients interpolated (rotations made continuous across the mesh then slerped,
+    stretches lerped) and each frame recovered by a Poisson solve L x = div(gradients) with the
+    prefactored cotangent Laplacian.
 
     Each face's map :math:`A_f = R_f S_f` (polar decomposition; the face's edges, plus the
     normal as third axis for triangles in 3-D) is interpolated as
@@ -172,9 +173,7 @@ def poisson(
            [1.5, 1.5],
            [0. , 1.5]])
     """
-    pair = read_pair(source, target, transform, need_faces=True)
-    t = read_times(times)
-    check_frame_count(pair.n, pair.dim, t)
+    pair, t = check_anchored(source, target, transform, times, anchor)
     rotations, stretch = FacePath.decompose(pair)
     rotations = unwrap_rotations(rotations, face_adjacency(pair.faces))
     measures = face_measures(pair.source, pair.faces)

@@ -4,6 +4,7 @@ arc, the pivot moves on a straight line and the scale changes geometrically."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -14,18 +15,18 @@ from algorithms.core.linalg import det, homogeneous
 from algorithms.core.params import ArrayInput, ShapeLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.interpolation._common import (
-    check_frame_count,
+    Pair,
+    check_pair,
     edge_errors,
     edges_of,
     pivot_of,
-    read_pair,
-    read_times,
     rotation_exp,
     rotation_log,
 )
 from algorithms.interpolation.affine import Pivot
 
-__all__ = ["RigidInterpolationResult", "rigid", "split_similarity", "SIMILARITY_RTOL"]
+__all__ = ["RigidInterpolationResult", "rigid", "check_rigid", "split_similarity",
+           "SIMILARITY_RTOL"]
 
 #: A given ``transform`` is a similarity when ``‖AᵀA − s² I‖_F <= SIMILARITY_RTOL · s²``.
 SIMILARITY_RTOL = 1e-9
@@ -100,6 +101,32 @@ def split_similarity(a: FloatArray, scale: bool) -> tuple[FloatArray, float]:
     return a / s, s
 
 
+def check_rigid(source: Any, target: Any = None, transform: Any = None, times: Any = None,
+                scale: bool = False) -> tuple[
+                    Pair, FloatArray, tuple[FloatArray, float, FloatArray, FloatArray, float]]:
+    """Check the inputs of :func:`rigid`: the shapes and times (:func:`check_pair`), and a
+    rigid motion (a similarity with ``scale``): given and checked (:func:`split_similarity`)
+    or fitted to ``target``. Returns the pair, the times and the motion: its rotation,
+    scale, translation, the residual of the fit and its RMSE."""
+    pair, t = check_pair(source, target, transform, times)
+    d = pair.dim
+    src = pair.source
+    if pair.transform is not None:
+        rot, s = split_similarity(pair.transform[:d, :d], scale)
+        b = pair.transform[:d, d]
+        residual = np.zeros_like(src)
+        rmse = 0.0
+    else:
+        if scale:
+            sim = fit_similarity(src, pair.target)
+            rot, s, b, rmse = sim.rotation, float(sim.scale), sim.translation, sim.rmse
+        else:
+            rig = fit_rigid(src, pair.target)
+            rot, s, b, rmse = rig.rotation, 1.0, rig.translation, rig.rmse
+        residual = pair.target - (s * (src @ rot.T) + b)
+    return pair, t, (rot, s, b, residual, rmse)
+
+
 @validate_params
 def rigid(
     source: ShapeLike,
@@ -110,7 +137,11 @@ def rigid(
     scale: bool = False,
     pivot: Pivot = "centroid",
 ) -> RigidInterpolationResult:
-    r"""Interpolate the rigid motion (or similarity) that takes ``source`` to ``target``.
+    r"""Rigid (or similarity) motion interpolation.
+
+    Fits a rigid motion (Kabsch) or similarity (Umeyama) to the target, or takes the one given, and
+    moves the shape along it: rotation by slerp (shortest arc), pivot on a straight line, scale
+    geometric (s^t).
 
     The motion :math:`p \mapsto s R p + b` is the ``transform`` given (checked to be one),
     or the least-squares fit to ``target``: Kabsch (:func:`algorithms.alignment.rigid`), or
@@ -191,25 +222,9 @@ def rigid(
     >>> round(res.angle, 12), np.round(res.frames[1].mean(axis=0), 12).tolist()
     (1.570796326795, [2.5, 1.0])
     """
-    with_scale = scale
-    pair = read_pair(source, target, transform)
-    t = read_times(times)
-    check_frame_count(pair.n, pair.dim, t)
+    pair, t, (rot, s, b, residual, rmse) = check_rigid(source, target, transform, times, scale)
     d = pair.dim
     src = pair.source
-    if pair.transform is not None:
-        rot, s = split_similarity(pair.transform[:d, :d], with_scale)
-        b = pair.transform[:d, d]
-        residual = np.zeros_like(src)
-        rmse = 0.0
-    else:
-        if with_scale:
-            sim = fit_similarity(src, pair.target)
-            rot, s, b, rmse = sim.rotation, float(sim.scale), sim.translation, sim.rmse
-        else:
-            rig = fit_rigid(src, pair.target)
-            rot, s, b, rmse = rig.rotation, 1.0, rig.translation, rig.rmse
-        residual = pair.target - (s * (src @ rot.T) + b)
     w = rotation_log(rot)
     c = pivot_of(src, pivot)
     centred = src - c

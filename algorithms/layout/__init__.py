@@ -12,14 +12,15 @@ every layout, is re-exported from :mod:`algorithms.core.graphs`.
 from algorithms.core.graphs import Graph
 from algorithms.layout._inputs import (
     as_distance_matrix,
+    check_distances,
     distance_pairs_matrix,
     distance_source,
     mesh_or_graph,
 )
-from algorithms.layout.laplacian import LaplacianLayoutResult, laplacian
+from algorithms.layout.laplacian import LaplacianLayoutResult, check_laplacian, laplacian
 from algorithms.layout.mds import MDSResult, mds
-from algorithms.layout.poisson import PoissonLayoutResult, poisson
-from algorithms.layout.stress import StressResult, stress
+from algorithms.layout.poisson import PoissonLayoutResult, check_poisson, poisson
+from algorithms.layout.stress import StressResult, check_stress, stress
 
 __all__ = [
     "Graph",
@@ -35,4 +36,8 @@ __all__ = [
     "distance_source",
     "as_distance_matrix",
     "distance_pairs_matrix",
+    "check_distances",
+    "check_laplacian",
+    "check_poisson",
+    "check_stress",
 ]

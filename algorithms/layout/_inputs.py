@@ -20,7 +20,8 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, shortest_path
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.graphs import as_graph
+from algorithms.core.graphs import Graph, as_graph
+from algorithms.core.mesh import Mesh, read_mesh
 from algorithms.core.types import FloatArray
 from algorithms.core.validation import (
     MAX_DENSE_POINTS,
@@ -33,13 +34,24 @@ from algorithms.core.validation import (
 
 __all__ = [
     "mesh_or_graph",
+    "read_mesh_or_graph",
     "distance_source",
     "as_distance_matrix",
     "distance_pairs_matrix",
     "check_connected",
     "graph_distances",
     "resolve_distances",
+    "check_n_components",
+    "check_distances",
+    "SYMMETRY_RTOL",
+    "SYMMETRY_ATOL",
 ]
+
+#: How far ``d[i, j]`` and ``d[j, i]`` (or a pair listed twice) may differ and still be one
+#: distance: ``|a - b| <= SYMMETRY_ATOL + SYMMETRY_RTOL * |b|`` both ways, the tolerances of
+#: scikit-learn's ``check_symmetric`` (which its MDS applies); the two are then averaged.
+SYMMETRY_RTOL = 1e-5
+SYMMETRY_ATOL = 1e-10
 
 
 def _exactly_one(inputs: dict[str, Any]) -> str:
@@ -66,6 +78,13 @@ def mesh_or_graph(mesh: Any, graph: Any, weighting: str) -> str:
             f"edge weights; {weighting} weights need a mesh), got {weighting!r}.",
             field="weighting")
     return given
+
+
+def read_mesh_or_graph(mesh: Any, graph: Any, weighting: str) -> Mesh | Graph:
+    """The one mesh or graph given (:func:`mesh_or_graph`), checked."""
+    if mesh_or_graph(mesh, graph, weighting) == "mesh":
+        return read_mesh(mesh)
+    return as_graph(graph, name="graph")
 
 
 def distance_source(distances: Any, distance_pairs: Any, n_points: Any, graph: Any) -> str:
@@ -123,14 +142,17 @@ def as_distance_matrix(x: Any, *, name: str = "distances", allow_missing: bool =
     Returns
     -------
     (n, n) float64 array
-        A new array, symmetric: where both ``x[i, j]`` and ``x[j, i]`` are known their mean,
-        where one is known that one, NaN where neither is (missing); the diagonal zero.
+        A new array, symmetric: where both ``x[i, j]`` and ``x[j, i]`` are known their mean
+        (they must agree to :data:`SYMMETRY_RTOL`), where one is known that one, NaN where
+        neither is (missing); the diagonal zero.
 
     Raises
     ------
     InvalidInputError
         Not a square matrix of numbers, fewer than 2 points, an infinite or negative entry,
-        a non-zero diagonal entry, a NaN where not allowed (the message names its row and
+        a non-zero diagonal entry, ``x[i, j]`` and ``x[j, i]`` both known and different
+        (an asymmetric matrix is refused, as scikit-learn's and scipy's MDS and
+        ``squareform`` refuse it), a NaN where not allowed (the message names its row and
         column).
     DegenerateInputError
         A point without any known distance, or known distances that split the points into
@@ -158,6 +180,7 @@ def as_distance_matrix(x: Any, *, name: str = "distances", allow_missing: bool =
             f"{float(diag[i])!r} at row {i}, column {i}.", field=name)
     np.fill_diagonal(d, 0.0)
     known = ~np.isnan(d)
+    _check_agree(d, d.T, known & known.T, name=name)
     if not known.all():
         both = known & known.T
         d = np.where(both, 0.5 * (d + d.T), np.where(known, d, d.T))
@@ -165,6 +188,20 @@ def as_distance_matrix(x: Any, *, name: str = "distances", allow_missing: bool =
         d = 0.5 * (d + d.T)
     check_connected(~np.isnan(d), name=name)
     return d
+
+
+def _check_agree(a: FloatArray, b: FloatArray, both: np.ndarray, *, name: str) -> None:
+    """Raise unless ``a`` and ``b`` agree where ``both`` (to the symmetry tolerances)."""
+    with np.errstate(invalid="ignore"):
+        close = np.isclose(a, b, rtol=SYMMETRY_RTOL, atol=SYMMETRY_ATOL) & \
+            np.isclose(b, a, rtol=SYMMETRY_RTOL, atol=SYMMETRY_ATOL)
+    bad = both & ~close
+    if bad.any():
+        i, j = (int(v) for v in np.unravel_index(int(np.argmax(bad)), bad.shape))
+        raise InvalidInputError(
+            f"Expected `{name}` to be symmetric (the distance from i to j is that from j to "
+            f"i), got {float(a[i, j])!r} at row {i}, column {j} and {float(b[i, j])!r} at row "
+            f"{j}, column {i}.", field=name)
 
 
 def _check_size(n: int, max_points: int | None, *, name: str) -> None:
@@ -236,7 +273,8 @@ def distance_pairs_matrix(pairs: Any, n_points: Any = None, *, name: str = "dist
     ----------
     pairs : array_like, (m, 3)
         Rows ``(i, j, d)``: points ``i != j`` (integers) are ``d >= 0`` apart. A pair given
-        twice (either order) takes the mean of its distances.
+        twice (either order) must have one distance (to :data:`SYMMETRY_RTOL`; then the
+        mean is taken), as ``d[i, j]`` and ``d[j, i]`` of a matrix.
     n_points : int, optional
         The number of points; by default one more than the largest index listed.
 
@@ -249,7 +287,8 @@ def distance_pairs_matrix(pairs: Any, n_points: Any = None, *, name: str = "dist
     ------
     InvalidInputError
         Not an ``(m, 3)`` array of finite numbers, non-integral or out-of-range indices, a
-        pair of a point with itself, a negative distance, ``n_points`` not an integer >= 2.
+        pair of a point with itself, a negative distance, a pair given twice with two
+        distances, ``n_points`` not an integer >= 2.
     DegenerateInputError
         As :func:`as_distance_matrix`.
     """
@@ -277,8 +316,18 @@ def distance_pairs_matrix(pairs: Any, n_points: Any = None, *, name: str = "dist
             f"Expected `{name}` to hold non-negative distances (column 2), got "
             f"{float(dist[row])!r} at row {row}.", field=name)
     lo, hi = np.minimum(ij[:, 0], ij[:, 1]), np.maximum(ij[:, 0], ij[:, 1])
-    keys, inverse = np.unique(lo * n + hi, return_inverse=True)
+    keys, first, inverse = np.unique(lo * n + hi, return_index=True, return_inverse=True)
     mean = np.bincount(inverse, weights=dist) / np.bincount(inverse)
+    seen = dist[first][inverse]  # each row's pair as its first row gives it
+    with np.errstate(invalid="ignore"):
+        agree = np.isclose(dist, seen, rtol=SYMMETRY_RTOL, atol=SYMMETRY_ATOL) & \
+            np.isclose(seen, dist, rtol=SYMMETRY_RTOL, atol=SYMMETRY_ATOL)
+    if not agree.all():
+        row = int(np.argmax(~agree))
+        raise InvalidInputError(
+            f"Expected `{name}` to give each pair one distance, got {float(dist[row])!r} at "
+            f"row {row} for the pair ({int(ij[row, 0])}, {int(ij[row, 1])}) given "
+            f"{float(seen[row])!r} at row {int(first[inverse[row]])}.", field=name)
     d = np.full((n, n), np.nan)
     d[keys // n, keys % n] = mean
     d[keys % n, keys // n] = mean
@@ -316,6 +365,29 @@ def graph_distances(graph: Any, *, name: str = "graph") -> FloatArray:
             f"{other} are not joined by any path); the distances between them are "
             "undetermined.", field=name)
     return np.ascontiguousarray(dist)
+
+
+def check_n_components(n_components: Any, n: int) -> int:
+    """``n_components`` of a layout of ``n`` points: ``1 <= k <= n``."""
+    return as_int(n_components, name="n_components", minimum=1, maximum=n,
+                  reason="the number of points")
+
+
+def check_distances(distances: Any = None, distance_pairs: Any = None, n_points: Any = None,
+                    graph: Any = None, n_components: Any = 2) -> int:
+    """Check the distances of a layout without computing a graph's: exactly one of the
+    three ways to give them (:func:`distance_source`), a matrix or pairs read as
+    :func:`as_distance_matrix` and :func:`distance_pairs_matrix` read them, and
+    ``n_components`` at most the number of points (:func:`check_n_components`). Returns
+    ``n_components``."""
+    given = distance_source(distances, distance_pairs, n_points, graph)
+    if given == "distance_pairs":
+        n = distance_pairs_matrix(distance_pairs, n_points).shape[0]
+    elif given == "distances":
+        n = as_distance_matrix(distances).shape[0]
+    else:
+        n = as_graph(graph, name="graph").n_nodes
+    return check_n_components(n_components, n)
 
 
 def resolve_distances(distances: Any, distance_pairs: Any, n_points: Any, graph: Any

@@ -5,23 +5,23 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal, get_args
+from typing import Any, Literal, cast, get_args
 
 import numpy as np
 import scipy.sparse as sp
 
 from algorithms.core.errors import DegenerateInputError
-from algorithms.core.graphs import Graph, as_graph, edge_graph
+from algorithms.core.graphs import Graph, edge_graph
 from algorithms.core.laplacian import laplacian as laplacian_of
 from algorithms.core.laplacian import mesh_laplacian
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import DEGENERATE_RTOL, Mesh, as_handles, boundary_loops, read_mesh
+from algorithms.core.mesh import DEGENERATE_RTOL, Handles, Mesh, as_handles, boundary_loops
 from algorithms.core.params import GraphLike, HandlesLike, MeshLike, validate_params
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.layout._inputs import mesh_or_graph
+from algorithms.layout._inputs import read_mesh_or_graph
 
-__all__ = ["LaplacianLayoutResult", "laplacian", "Weighting", "Spacing", "WEIGHTINGS",
-           "SPACINGS", "face_orientation"]
+__all__ = ["LaplacianLayoutResult", "laplacian", "check_laplacian", "Weighting", "Spacing",
+           "WEIGHTINGS", "SPACINGS", "face_orientation"]
 
 Weighting = Literal["uniform", "cotangent", "tangent"]
 Spacing = Literal["arc_length", "uniform"]
@@ -59,6 +59,22 @@ class LaplacianLayoutResult:
     degenerate_faces: int
 
 
+def check_laplacian(mesh: Any = None, graph: Any = None, weighting: str = "uniform",
+                    pins: Any = None) -> tuple[Mesh | Graph, Handles | None]:
+    """Check the inputs of :func:`laplacian`: one of ``mesh`` and ``graph``
+    (:func:`~algorithms.layout.mesh_or_graph`), ``pins`` within its vertices, and pins with
+    a graph (it has no boundary to pin by default). Returns the mesh or graph and the
+    pins."""
+    shape = read_mesh_or_graph(mesh, graph, weighting)
+    n = shape.n_vertices if isinstance(shape, Mesh) else shape.n_nodes
+    if pins is not None:
+        return shape, as_handles(pins, n, name="pins")
+    if isinstance(shape, Graph):
+        raise DegenerateInputError("Expected `pins` with a `graph` (a graph has no boundary "
+                                   "to pin by default), got none.", field="pins")
+    return shape, None
+
+
 @validate_params
 def laplacian(
     mesh: MeshLike | None = None,
@@ -68,9 +84,12 @@ def laplacian(
     weighting: Weighting = "uniform",
     boundary_spacing: Spacing = "arc_length",
 ) -> LaplacianLayoutResult:
-    r"""Place the vertices of a mesh or graph where the springs on its edges balance, some
-    vertices pinned (Tutte's embedding when a mesh's boundary is pinned to a convex
-    polygon).
+    r"""Laplacian (spring) layout; Tutte embedding.
+
+    Places every free vertex at the weighted average of its neighbours, some vertices pinned: L₀₀x =
+    −L₀₁c, one factored solve for all coordinates. A mesh's boundary pinned to the unit circle by
+    default (Tutte's embedding: with uniform or tangent weights no face flips). Reports the spring
+    energy and flipped faces.
 
     Minimises the spring energy with the pinned positions :math:`c` fixed,
 
@@ -168,25 +187,18 @@ def laplacian(
     >>> (res.positions[4].round(12) + 0.0).tolist(), res.flipped_faces
     ([0.0, 0.0], 0)
     """
+    shape, h = check_laplacian(mesh, graph, weighting, pins)
     faces: IntArray | None = None
-    if mesh_or_graph(mesh, graph, weighting) == "mesh":
-        m = read_mesh(mesh)
-        n, faces = m.n_vertices, m.faces
-        lap = mesh_laplacian(m.vertices, m.faces, kind=weighting)
+    if isinstance(shape, Mesh):
+        faces = shape.faces
+        lap = mesh_laplacian(shape.vertices, shape.faces, kind=weighting)
     else:
-        g = as_graph(graph)
-        n = g.n_nodes
-        lap = graph_laplacian(g)
-    if pins is not None:
-        h = as_handles(pins, n, name="pins")
+        lap = graph_laplacian(shape)
+    if h is not None:
         pinned, values, pin_name = h.indices, h.positions, "pins"
-    elif mesh is not None:
-        pinned, values = circle_boundary(m, boundary_spacing)
+    else:  # a mesh (check_laplacian refuses a graph without pins)
+        pinned, values = circle_boundary(cast(Mesh, shape), boundary_spacing)
         pin_name = "mesh"
-    else:
-        raise DegenerateInputError(
-            "Expected `pins` with a `graph` (a graph has no boundary to pin by default), got "
-            "none.", field="pins")
     system = PinnedSystem(lap, pinned, name=pin_name)
     x = system.solve(values)
     energy = float(np.einsum("ij,ij->", x, lap @ x))

@@ -16,7 +16,7 @@ from algorithms.core.params import ArrayInput, Ge, GraphLike, validate_params
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_int
-from algorithms.layout._inputs import resolve_distances
+from algorithms.layout._inputs import check_n_components, resolve_distances
 
 __all__ = ["MDSResult", "mds", "classical_coordinates", "complete_squared_distances",
            "raw_stress"]
@@ -76,8 +76,11 @@ def mds(
     max_iterations: Annotated[int, Ge(0)] = 500,
     tolerance: Annotated[float, Ge(0)] = 1e-7,
 ) -> MDSResult:
-    r"""Classical (Torgerson) multidimensional scaling; partial distance matrices are
-    completed first.
+    r"""Classical multidimensional scaling (with completion of missing distances).
+
+    Coordinates from the top eigenvectors of the double-centred squared distances −½JD⁽²⁾J. Missing
+    distances are completed first: rank-(k+2) truncation of the squared distances (Drineas et al.'s
+    one-shot estimate), refined by alternating projections. Reports the stress over the known pairs.
 
     With the squared distances :math:`D^{(2)} = D \odot D` and the centring matrix
     :math:`J = I - \tfrac1n \mathbf 1 \mathbf 1^\mathsf{T}`, points :math:`X` with those
@@ -106,12 +109,14 @@ def mds(
     ----------
     distances : (n, n) array_like, optional
         Pairwise distances, non-negative, the diagonal zero; NaN (``null`` in JSON) marks
-        a missing entry. An asymmetric matrix is symmetrised (the mean of ``d_ij`` and
-        ``d_ji`` where both are known, the known one otherwise). Exactly one of
-        ``distances``, ``distance_pairs`` and ``graph``.
+        a missing entry. Symmetric where ``d_ij`` and ``d_ji`` are both known (to a
+        relative 1e-5, as scikit-learn's MDS checks; an asymmetric matrix is refused);
+        where one is known it stands for both. Exactly one of ``distances``,
+        ``distance_pairs`` and ``graph``.
     distance_pairs : (m, 3) array_like, optional
         Instead of ``distances``: the known distances as rows ``(i, j, d)``, points ``i``
-        and ``j`` (0-based) ``d`` apart; every other pair is missing.
+        and ``j`` (0-based) ``d`` apart; every other pair is missing. A pair listed twice
+        (either order) must give one distance.
     n_points : int, optional
         With ``distance_pairs``: the number of points (default: the largest index + 1).
     graph : Graph or mapping, optional
@@ -203,8 +208,7 @@ def mds(
     """
     d, name = resolve_distances(distances, distance_pairs, n_points, graph)
     n = d.shape[0]
-    k = as_int(n_components, name="n_components", minimum=1, maximum=n,
-               reason="the number of points")
+    k = check_n_components(n_components, n)
     r = k + 2 if rank is None else as_int(rank, name="rank", minimum=k, maximum=n,
                                           reason="from n_components to the number of points")
     r = min(r, n)

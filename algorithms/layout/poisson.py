@@ -5,16 +5,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.graphs import as_graph
+from algorithms.core.graphs import Graph
 from algorithms.core.laplacian import cotangent_weights, tangent_weights
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import as_handles, read_mesh
+from algorithms.core.mesh import Handles, Mesh, as_handles
 from algorithms.core.mesh import edges as mesh_edges
 from algorithms.core.params import (
     ArrayInput,
@@ -24,12 +25,12 @@ from algorithms.core.params import (
     WeightsLike,
     validate_params,
 )
-from algorithms.core.types import FloatArray
+from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_points, as_weights
-from algorithms.layout._inputs import mesh_or_graph
+from algorithms.layout._inputs import read_mesh_or_graph
 from algorithms.layout.laplacian import Weighting
 
-__all__ = ["PoissonLayoutResult", "poisson"]
+__all__ = ["PoissonLayoutResult", "poisson", "check_poisson"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,6 +63,43 @@ class PoissonLayoutResult:
     free_components: int
 
 
+def check_poisson(vectors: Any, mesh: Any = None, graph: Any = None,
+                  weighting: str = "cotangent", anchors: Any = None,
+                  anchor_weights: Any = None, pins: Any = None
+                  ) -> tuple[Mesh | Graph, IntArray, FloatArray, Handles | None,
+                             FloatArray | None, Handles | None]:
+    """Check the inputs of :func:`poisson`: one of ``mesh`` and ``graph``, one vector per
+    edge, anchors and pins within its vertices and of the vectors' dimension, anchor
+    weights only with anchors, one per anchor. Returns the mesh or graph, its edges, the
+    vectors, the anchors, their weights and the pins."""
+    shape = read_mesh_or_graph(mesh, graph, weighting)
+    if isinstance(shape, Mesh):
+        n, e = shape.n_vertices, mesh_edges(shape.faces)
+        where = f"one row per edge of `mesh` ({e.shape[0]}, its unique edges i < j sorted)"
+    else:
+        n, e = shape.n_nodes, shape.edges
+        where = f"one row per edge of `graph` ({e.shape[0]})"
+    v = as_points(vectors, name="vectors", min_dim=2, min_points=0)
+    if v.shape[0] != e.shape[0]:
+        raise InvalidInputError(f"Expected `vectors` to hold {where}, got {v.shape[0]}.",
+                                field="vectors")
+    held = []
+    for name, given in (("anchors", anchors), ("pins", pins)):
+        h = None if given is None else as_handles(given, n, name=name)
+        if h is not None:
+            _same_dim(h.positions, v.shape[1], f"{name}.positions")
+        held.append(h)
+    a, p = held
+    u = None
+    if anchor_weights is not None:
+        if a is None:
+            raise InvalidInputError("Expected `anchor_weights` only together with "
+                                    "`anchors`, got weights without anchors.",
+                                    field="anchor_weights")
+        u = as_weights(anchor_weights, a.indices.shape[0], name="anchor_weights")
+    return shape, e, v, a, u, p
+
+
 @validate_params
 def poisson(
     mesh: MeshLike | None = None,
@@ -73,9 +111,11 @@ def poisson(
     pins: HandlesLike | None = None,
     weighting: Weighting = "uniform",
 ) -> PoissonLayoutResult:
-    r"""Positions whose edge differences match given vectors, in the least-squares sense,
-    pulled softly towards anchors and held at pins (a screened Poisson equation on the
-    graph).
+    r"""Poisson layout (edge vectors to match, soft anchors).
+
+    Positions whose edge differences best match given vectors, pulled towards anchors and held at
+    pins: min Σ wᵢⱼ‖(pᵢ − pⱼ) − vᵢⱼ‖² + Σ uᵢ‖pᵢ − zᵢ‖², solved as (DᵀWD + U)x = DᵀWv + Uz with one
+    sparse factorization.
 
     .. math::
 
@@ -161,47 +201,31 @@ def poisson(
     >>> res.positions.round(12).tolist()
     [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]
     """
-    if mesh_or_graph(mesh, graph, weighting) == "mesh":
-        m = read_mesh(mesh)
-        n = m.n_vertices
-        e = mesh_edges(m.faces)
+    shape, e, v, a, u, h = check_poisson(vectors, mesh, graph, weighting, anchors,
+                                         anchor_weights, pins)
+    if isinstance(shape, Mesh):
+        n = shape.n_vertices
         if weighting == "uniform":
             w = np.ones(e.shape[0])
         else:
             wm = (cotangent_weights if weighting == "cotangent" else tangent_weights)(
-                m.vertices, m.faces)
+                shape.vertices, shape.faces)
             w = np.asarray(wm[e[:, 0], e[:, 1]]).ravel()
-        where = f"one row per edge of `mesh` ({e.shape[0]}, its unique edges i < j sorted)"
     else:
-        g = as_graph(graph)
-        n, e = g.n_nodes, g.edges
-        w = np.ones(e.shape[0]) if g.weights is None else g.weights
-        where = f"one row per edge of `graph` ({e.shape[0]})"
-    v = as_points(vectors, name="vectors", min_dim=2, min_points=0)
-    if v.shape[0] != e.shape[0]:
-        raise InvalidInputError(f"Expected `vectors` to hold {where}, got {v.shape[0]}.",
-                                field="vectors")
+        n = shape.n_nodes
+        w = np.ones(e.shape[0]) if shape.weights is None else shape.weights
     k = v.shape[1]
 
     u_full = np.zeros(n)
     z_full = np.zeros((n, k))
     anchor_idx = np.zeros(0, dtype=np.int64)
-    if anchors is not None:
-        a = as_handles(anchors, n, name="anchors")
-        _same_dim(a.positions, k, "anchors.positions")
-        u = np.ones(a.indices.shape[0]) if anchor_weights is None else \
-            as_weights(anchor_weights, a.indices.shape[0], name="anchor_weights")
+    if a is not None:
         anchor_idx, anchor_pos = a.indices, a.positions
-        u_full[anchor_idx] = u
+        u_full[anchor_idx] = np.ones(a.indices.shape[0]) if u is None else u
         z_full[anchor_idx] = anchor_pos
-    elif anchor_weights is not None:
-        raise InvalidInputError("Expected `anchor_weights` only together with `anchors`, got "
-                                "weights without anchors.", field="anchor_weights")
     pinned = np.zeros(0, dtype=np.int64)
     pin_pos = np.zeros((0, k))
-    if pins is not None:
-        h = as_handles(pins, n, name="pins")
-        _same_dim(h.positions, k, "pins.positions")
+    if h is not None:
         pinned, pin_pos = h.indices, h.positions
 
     diff = sp.csr_array(

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated, Literal, get_args
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 import scipy.linalg as la
@@ -24,8 +24,8 @@ from algorithms.core.params import (
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray
-from algorithms.core.validation import as_int, as_points
-from algorithms.layout._inputs import resolve_distances
+from algorithms.core.validation import as_points
+from algorithms.layout._inputs import check_distances, check_n_components, resolve_distances
 from algorithms.layout.mds import classical_coordinates, complete_squared_distances
 
 __all__ = ["StressResult", "stress", "Weighting", "Init", "WEIGHTINGS", "INITS"]
@@ -69,6 +69,17 @@ class StressResult:
     converged: bool
 
 
+def check_stress(distances: Any = None, distance_pairs: Any = None, n_points: Any = None,
+                 graph: Any = None, n_components: Any = 2, initial_positions: Any = None
+                 ) -> None:
+    """Check the inputs of :func:`stress` before the distances are computed: as
+    :func:`~algorithms.layout.check_distances`, and a starting layout, when given, with
+    ``n_components`` columns."""
+    k = check_distances(distances, distance_pairs, n_points, graph, n_components)
+    if initial_positions is not None:
+        as_points(initial_positions, name="initial_positions", dim=k)
+
+
 @validate_params
 def stress(
     distances: ArrayInput | None = None,
@@ -86,8 +97,12 @@ def stress(
     seed: Seed = 0,
     progress: Progress | None = None,
 ) -> StressResult:
-    r"""Lay out points so that their distances match given ones, by stress majorization
-    (SMACOF).
+    r"""Stress majorization (SMACOF).
+
+    The layout minimising the weighted stress Σ wᵢⱼ(‖xᵢ − xⱼ‖ − dᵢⱼ)² over the known pairs by
+    Guttman transforms (never increasing), from classical MDS; distances from a matrix, a list of
+    pairs, or a graph's shortest paths. Progress per iteration, cancellable; reports the stress
+    history.
 
     Minimises the weighted stress over the known pairs
 
@@ -117,12 +132,14 @@ def stress(
     ----------
     distances : (n, n) array_like, optional
         Pairwise distances, non-negative, the diagonal zero; NaN (``null`` in JSON) marks
-        an unknown distance, which gets weight 0. An asymmetric matrix is symmetrised (the
-        mean of ``d_ij`` and ``d_ji`` where both are known, the known one otherwise).
-        Exactly one of ``distances``, ``distance_pairs`` and ``graph``.
+        an unknown distance, which gets weight 0. Symmetric where ``d_ij`` and ``d_ji``
+        are both known (to a relative 1e-5, as scikit-learn's MDS checks; an asymmetric
+        matrix is refused); where one is known it stands for both. Exactly one of
+        ``distances``, ``distance_pairs`` and ``graph``.
     distance_pairs : (m, 3) array_like, optional
         Instead of ``distances``: the known distances as rows ``(i, j, d)``, points ``i``
-        and ``j`` (0-based) ``d`` apart; every other pair is unknown.
+        and ``j`` (0-based) ``d`` apart; every other pair is unknown. A pair listed twice
+        (either order) must give one distance.
     n_points : int, optional
         With ``distance_pairs``: the number of points (default: the largest index + 1).
     graph : Graph or mapping, optional
@@ -223,8 +240,7 @@ def stress(
     report = as_progress(progress)
     d, name = resolve_distances(distances, distance_pairs, n_points, graph)
     n = d.shape[0]
-    k = as_int(n_components, name="n_components", minimum=1, maximum=n,
-               reason="the number of points")
+    k = check_n_components(n_components, n)
 
     known = ~np.isnan(d)
     np.fill_diagonal(known, False)

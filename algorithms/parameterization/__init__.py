@@ -7,7 +7,7 @@ from algorithms.parameterization.abf import AbfResult, abf
 from algorithms.parameterization.arap import arap
 from algorithms.parameterization.asap import asap
 from algorithms.parameterization.bijective import BijectiveResult, bijective
-from algorithms.parameterization.conformal import check_pins, conformal
+from algorithms.parameterization.conformal import check_conformal, check_pins, conformal
 from algorithms.parameterization.harmonic import harmonic
 from algorithms.parameterization.stretch import StretchResult, stretch_minimizing
 from algorithms.parameterization.tutte import tutte
@@ -16,6 +16,7 @@ __all__ = [
     "NotADiskError",
     "check_disk",
     "check_pins",
+    "check_conformal",
     "ParameterizationResult",
     "LocalGlobalResult",
     "tutte",

@@ -126,7 +126,7 @@ class LocalGlobalSolver:
             e = local_global_energy(self.area, J, T)
             energies.append(e)
             report(it + 1, max_iterations, f"iteration {it + 1}: energy {e:.6g}")
-            if e <= floor or energies[-2] - e <= tolerance * max(e, floor):
+            if e <= floor or (tolerance > 0 and energies[-2] - e <= tolerance * max(e, floor)):
                 converged = True
                 break
         if not converged and tolerance > 0:

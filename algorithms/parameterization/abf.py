@@ -290,7 +290,13 @@ def angles_to_uv(disk: Disk, angles: FloatArray) -> tuple[FloatArray, IntArray]:
 def abf(mesh: MeshLike, *, max_iterations: Annotated[int, Ge(1)] = 20,
         tolerance: Annotated[float, Ge(0)] = 1e-8,
         progress: Progress | None = None) -> AbfResult:
-    r"""Map a disk-like mesh to the plane by angle-based flattening (ABF++).
+    r"""Angle-based flattening (ABF++).
+
+    Solves for the flat angles nearest the surface's (relative error, weights 1/β²) under the
+    triangle, planarity and wheel constraints by Newton's method on a sparse reduced system (angle
+    and triangle multipliers eliminated, one sparse Cholesky per iteration), then lays the mesh out
+    from the angles by a least-squares conformal step with two boundary vertices pinned; free
+    boundary. Reports flipped faces, angle distortion and area distortion.
 
     Finds the angles :math:`\alpha` of a flat mesh nearest the surface's, in relative
     terms,

@@ -27,8 +27,11 @@ def arap(
     tolerance: Annotated[float, Ge(0)] = 1e-6,
     progress: Progress | None = None,
 ) -> LocalGlobalResult:
-    r"""Map a disk-like mesh to the plane with every triangle as close to an isometry as
-    possible, its boundary free.
+    r"""As-rigid-as-possible parameterization (local/global).
+
+    Alternates per-face nearest rotations (closed form) and one prefactored cotangent-Laplacian
+    solve with a per-half-edge right-hand side; free boundary, energy never increasing. Reports
+    flipped faces, angle distortion and area distortion.
 
     Minimises over the UV positions :math:`u` and one rotation :math:`R_t` per face
 
@@ -58,7 +61,7 @@ def arap(
         Upper bound on local/global iterations.
     tolerance : float, default 1e-6
         Stop when an iteration lowers the energy by at most this fraction; ``0`` runs all
-        ``max_iterations`` (libigl's behaviour).
+        ``max_iterations`` (libigl's behaviour), unless the energy reaches zero.
     progress : callable, optional
         ``progress(done, max_iterations, message)`` after every iteration; it may raise
         :class:`~algorithms.core.errors.Cancelled`.

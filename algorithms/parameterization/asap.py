@@ -21,8 +21,11 @@ def asap(
     tolerance: Annotated[float, Ge(0)] = 1e-6,
     progress: Progress | None = None,
 ) -> LocalGlobalResult:
-    r"""Map a disk-like mesh to the plane with every triangle as close to a similarity
-    (rotation and uniform scale) as possible.
+    r"""As-similar-as-possible parameterization (local/global).
+
+    Alternates per-face nearest similarities and one prefactored solve, two boundary vertices held;
+    converges to the LSCM map with those pins. Reports flipped faces, angle distortion and area
+    distortion.
 
     Minimises over the UV positions :math:`u` and one similarity
     :math:`S_t = \begin{pmatrix} p_t & -s_t \\ s_t & p_t \end{pmatrix}` per face

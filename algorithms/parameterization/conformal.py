@@ -28,7 +28,7 @@ from algorithms.parameterization._disk import Disk, read_disk
 from algorithms.parameterization._results import ParameterizationResult, direct_result
 
 __all__ = ["conformal", "conformal_energy_matrix", "farthest_boundary_pair", "lscm_uv",
-           "check_pins", "ConformalMethod", "CONFORMAL_METHODS"]
+           "check_pins", "check_conformal", "ConformalMethod", "CONFORMAL_METHODS"]
 
 ConformalMethod = Literal["lscm", "spectral"]
 #: The accepted values of ``method``.
@@ -217,10 +217,30 @@ def spectral_uv(disk: Disk) -> tuple[FloatArray, float]:
     return uv, _conformal_energy(conformal_energy_matrix(m), uv)
 
 
+def check_conformal(mesh: Any, method: str = "lscm", pins: Any = None
+                    ) -> tuple[Disk, Handles | None]:
+    """Check the inputs of :func:`conformal`: a disk-like mesh (:func:`check_disk`), and
+    pins only with LSCM, then vertices of the mesh in the plane (:func:`check_pins`).
+    Returns the disk and the pins."""
+    disk = read_disk(mesh)
+    if pins is None:
+        return disk, None
+    if method == "spectral":
+        raise InvalidInputError(
+            "Expected no `pins` with method='spectral' (its boundary is free and its "
+            "similarity fixed by normalisation), got some; use method='lscm'.",
+            field="pins")
+    return disk, check_pins(pins, disk.mesh)
+
+
 @validate_params
 def conformal(mesh: MeshLike, *, method: ConformalMethod = "lscm",
               pins: HandlesLike | None = None) -> ParameterizationResult:
-    r"""Conformal (angle-preserving as far as possible) map of a disk-like mesh to the plane.
+    r"""Conformal parameterization (LSCM, spectral).
+
+    Minimises the conformal energy (Dirichlet minus area): LSCM with two or more pins (chosen
+    automatically or given; as igl.lscm), or spectral conformal with a free boundary (generalized
+    eigenproblem). Reports flipped faces, angle distortion and area distortion.
 
     Both methods minimise the conformal energy
 
@@ -311,16 +331,10 @@ def conformal(mesh: MeshLike, *, method: ConformalMethod = "lscm",
     >>> (res.uv.round(12) + 0.0).tolist(), res.angle_distortion < 1e-12
     ([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0], [1.0, 1.0]], True)
     """
-    disk = read_disk(mesh)
+    disk, h = check_conformal(mesh, method, pins)
     m = disk.mesh
     if method == "spectral":
-        if pins is not None:
-            raise InvalidInputError(
-                "Expected no `pins` with method='spectral' (its boundary is free and its "
-                "similarity fixed by normalisation), got some; use method='lscm'.",
-                field="pins")
         uv, energy = spectral_uv(disk)
         return direct_result(m, uv, np.zeros(0, dtype=np.int64), energy)
-    h = None if pins is None else check_pins(pins, m)
     uv, idx, energy = lscm_uv(disk, h)
     return direct_result(m, uv, idx, energy)

@@ -13,8 +13,10 @@ __all__ = ["harmonic"]
 
 @validate_params
 def harmonic(mesh: MeshLike, *, boundary: Boundary = "circle") -> ParameterizationResult:
-    r"""Harmonic map of a disk-like mesh onto a disk (or square): minimal Dirichlet energy
-    with the boundary fixed.
+    r"""Harmonic parameterization.
+
+    Boundary fixed to a circle or square, interior by the cotangent Laplace equation (minimal
+    Dirichlet energy); as igl.harmonic. Reports flipped faces, angle distortion and area distortion.
 
     .. math::
 

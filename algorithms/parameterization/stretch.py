@@ -179,8 +179,12 @@ def stretch_minimizing(
     tolerance: Annotated[float, Ge(0)] = 1e-4,
     progress: Progress | None = None,
 ) -> StretchResult:
-    r"""Map a disk-like mesh to the plane with low texture stretch, its boundary fixed on a
-    circle or square (Yoshizawa et al. 2004).
+    r"""Stretch-minimizing parameterization (fixed boundary).
+
+    Starts from the mean value Tutte map (boundary on a circle or square), then divides each weight
+    w_ij by the stretch around vertex j and solves again while Sander et al.'s L2 stretch falls;
+    keeps the best map. Positive weights and a convex boundary: no flipped faces. Reports the L2 and
+    L-infinity stretch, flipped faces, angle distortion and area distortion.
 
     Lowers Sander et al.'s L2 stretch (the root mean square, over the surface, of the
     stretch a texture suffers when mapped back onto the surface)

@@ -4,8 +4,8 @@ memory."""
 
 from __future__ import annotations
 
+import contextlib
 import math
-import os
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -18,6 +18,8 @@ from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.linalg import procrustes
 from algorithms.core.params import Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
+from algorithms.core.threads import query_workers, single_blas_thread
+from algorithms.core.threads import usable_cores as _cores
 from algorithms.core.types import FloatArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 
@@ -277,13 +279,6 @@ class _Posterior:
             elif idx.size:
                 acc[idx] += blk.T @ rhs
         return acc, log_den
-
-
-def _cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:                          # not on Linux
-        return os.cpu_count() or 1
 
 
 def _spatial_blocks(x: FloatArray, size: int) -> tuple[Any, list[tuple[int, int]]]:
@@ -755,43 +750,48 @@ def cpd(
     converged, reason = False, f"max_iterations = {max_iterations} reached before the " \
         "tolerance was met"
     k = 0
-    for k in range(1, max_iterations + 1):
-        log_c = 0.5 * d * math.log(2.0 * math.pi * s2) + log_w
-        p1, pt1, px, log_den = posterior(ty, s2, log_c)
-        objective = -log_den + 0.5 * n_pts * d * math.log(s2)
-        if nonrigid is not None:
-            objective += 0.5 * nonrigid.alpha * nonrigid.penalty()
-        change = abs(objective - previous) / abs(objective) if objective != 0 else 0.0
-        previous = objective
-        try:
-            if model == "rigid":
-                linear, shift, s_est, new_s2 = _rigid_step(x, y, p1, pt1, px, scale)
-                ty = y @ linear.T + shift
-            elif model == "affine":
-                linear, shift, new_s2 = _affine_step(x, y, p1, pt1, px)
-                ty = y @ linear.T + shift
-            else:
-                assert nonrigid is not None
-                ty, new_s2 = nonrigid.step(x, p1, pt1, px, s2)
-        except (_Undetermined, np.linalg.LinAlgError) as err:
-            k -= 1
-            reason = f"the M-step of iteration {k + 1} is undetermined: {err}"
-            break
-        report(k, max_iterations, f"CPD iteration {k}: sigma² {new_s2 * sx * sx:.6g}")
-        if not new_s2 > SIGMA2_FLOOR:
-            s2 = SIGMA2_FLOOR
-            converged, reason = True, "sigma² at rounding level (exact fit)"
-            break
-        s2 = new_s2
-        if change < tolerance:
-            converged = True
-            reason = (f"relative change of the negative log-likelihood {change:.3g} below "
-                      f"tolerance {tolerance:g}")
-            break
+    # The thread policy (algorithms.core.threads): one BLAS thread for the E-step, whose
+    # partitions run on threads of their own, and for the thin products of the rigid and
+    # affine M-steps; the nonrigid M-step's M × M solve keeps BLAS's threads.
+    with contextlib.nullcontext() if model == "nonrigid" else single_blas_thread():
+        for k in range(1, max_iterations + 1):
+            log_c = 0.5 * d * math.log(2.0 * math.pi * s2) + log_w
+            with single_blas_thread():
+                p1, pt1, px, log_den = posterior(ty, s2, log_c)
+            objective = -log_den + 0.5 * n_pts * d * math.log(s2)
+            if nonrigid is not None:
+                objective += 0.5 * nonrigid.alpha * nonrigid.penalty()
+            change = abs(objective - previous) / abs(objective) if objective != 0 else 0.0
+            previous = objective
+            try:
+                if model == "rigid":
+                    linear, shift, s_est, new_s2 = _rigid_step(x, y, p1, pt1, px, scale)
+                    ty = y @ linear.T + shift
+                elif model == "affine":
+                    linear, shift, new_s2 = _affine_step(x, y, p1, pt1, px)
+                    ty = y @ linear.T + shift
+                else:
+                    assert nonrigid is not None
+                    ty, new_s2 = nonrigid.step(x, p1, pt1, px, s2)
+            except (_Undetermined, np.linalg.LinAlgError) as err:
+                k -= 1
+                reason = f"the M-step of iteration {k + 1} is undetermined: {err}"
+                break
+            report(k, max_iterations, f"CPD iteration {k}: sigma² {new_s2 * sx * sx:.6g}")
+            if not new_s2 > SIGMA2_FLOOR:
+                s2 = SIGMA2_FLOOR
+                converged, reason = True, "sigma² at rounding level (exact fit)"
+                break
+            s2 = new_s2
+            if change < tolerance:
+                converged = True
+                reason = (f"relative change of the negative log-likelihood {change:.3g} below "
+                          f"tolerance {tolerance:g}")
+                break
 
     moved = ty * sx + mu_x
     tree = cKDTree(dst)
-    dist, _ = cast(KnnQuery, tree.query(moved, workers=-1 if m_pts >= 8192 else 1))
+    dist, _ = cast(KnnQuery, tree.query(moved, workers=query_workers(m_pts)))
     rmse = math.sqrt(float(dist @ dist) / m_pts)
     if not converged:
         warn(f"CPD did not converge: {reason}.", ConvergenceWarning)

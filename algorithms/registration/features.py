@@ -287,7 +287,8 @@ def fpfh(
         consistently (outwards, say), or omit them.
     normal_neighbors : int, default 10
         Neighbours per estimated normal, ``>= 2``: the point and this many others (Open3D's
-        ``KDTreeSearchParamKNN(knn)`` counts the point, so this is its ``knn - 1``).
+        ``KDTreeSearchParamKNN(knn)`` counts the point, so this is its ``knn - 1``; Open3D's
+        default ``knn=30`` smooths more: pass 29 for its normals).
 
     Returns
     -------

@@ -16,9 +16,10 @@ from scipy.spatial.transform import Rotation
 from algorithms.alignment import affine, pca, rigid, similarity
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
-from algorithms.core.pairs import rotation_fit, trusted_pairs
+from algorithms.core.pairs import Pairs, rotation_fit, trusted_pairs
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
+from algorithms.core.threads import SERIAL_BELOW, query_workers, single_blas_thread
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 from algorithms.registration._normals import estimate_normals, given_normals
@@ -33,8 +34,6 @@ Init = Literal["identity", "pca"]
 MODELS, METRICS, KERNELS, INITS = get_args(Model), get_args(Metric), get_args(Kernel), \
     get_args(Init)
 
-#: Queries of fewer points than this run on one thread (starting threads costs more).
-SERIAL_BELOW = 8192
 #: Tuning constants of the kernels for unit-variance Gaussian residuals (95% efficiency).
 HUBER_K = 1.345
 TUKEY_C = 4.685
@@ -43,6 +42,13 @@ MAD_TO_SIGMA = 1.4826
 #: A neighbourhood whose middle eigenvalue is below this fraction of the largest is taken as
 #: collinear: its estimated normal is undetermined and its pairs get no weight.
 PLANARITY_MIN = 1e-8
+#: Relative margin of the test that keeps a previous nearest point (see _Problem.nearest):
+#: far above the rounding of the distances, far below any gap that matters.
+KEEP_RTOL = 1e-12
+#: Ask for the second neighbour only while a step would keep this fraction of the partners.
+KEEP_WORTH = 0.3
+#: About this many gaps of the last two-neighbour query judge that.
+GAP_SAMPLE = 1024
 #: An RMSE at or below this fraction of the target's RMS radius is an exact fit: stop.
 ROUNDING_RTOL = 1e-12
 #: How far a given ``init`` may be from its model (orthogonality, last row), relatively.
@@ -108,7 +114,8 @@ class ICPResult:
 class _Match:
     """The correspondences of one transform: source rows ``src`` pair with target rows
     ``tgt`` at Euclidean distances ``dist``; ``inliers`` counts the source points within
-    the distance bound (before trimming); ``moved`` is the whole moved source."""
+    the distance bound (before trimming); ``moved`` is the whole moved source, valid
+    until the match after next (its buffer is then reused)."""
 
     src: IntArray
     tgt: IntArray
@@ -123,7 +130,8 @@ class _Match:
         return math.sqrt(float(self.dist @ self.dist) / self.dist.size)
 
     def same_pairs(self, other: _Match) -> bool:
-        return np.array_equal(self.src, other.src) and np.array_equal(self.tgt, other.tgt)
+        return (self.src is other.src or np.array_equal(self.src, other.src)) and \
+            np.array_equal(self.tgt, other.tgt)
 
 
 @dataclass(frozen=True, eq=False)
@@ -156,7 +164,29 @@ class _Problem:
                 source_normals = source_normals[order]
         self.src, self.dst = src, dst
         self.n = n
-        self.workers = -1 if n >= SERIAL_BELOW else 1
+        self.workers = query_workers(n)
+        self.all = np.arange(n)
+        self.ones = np.ones(n)
+        # the centred source of the fits in which every source point is paired (the usual
+        # case): the same every iteration, so computed once, as trusted_pairs computes it
+        self.x_mean = (self.ones @ src) / n
+        self.xc = src - self.x_mean
+        # buffers of the moved source (two: a match's stays valid while the next is made)
+        # and of the partners: the same values as fresh arrays, without new pages each time
+        self.moved = [np.empty_like(src), np.empty_like(src)]
+        self.flip = 0
+        self.y = np.empty_like(src)
+        self.yc = np.empty_like(src)
+        # what the last query proved (see nearest): each point's partner, and a distance
+        # within which no other target point lies, lowered by how far the points moved since
+        self.partner: IntArray | None = None
+        self.slack = np.empty(n)
+        self.gaps: FloatArray | None = None
+        self.half_gap: FloatArray | None = None
+        self.last = np.eye(src.shape[1] + 1)
+        self.reach = float(np.sqrt(np.max(np.einsum("ij,ij->i", self.xc, self.xc))))
+        self.extent = self.reach + float(np.linalg.norm(self.x_mean)) + \
+            float(np.max(np.abs(dst)))
         self.tree = cKDTree(dst)
         centred = dst - dst.mean(axis=0)
         self.size = math.sqrt(float(np.einsum("ij,ij->", centred, centred)) / len(dst)) or 1.0
@@ -166,7 +196,7 @@ class _Problem:
         if metric != "point_to_point":
             if target_normals is None:
                 normals, planarity = estimate_normals(dst, self.tree, normal_neighbors,
-                                                      -1 if dst.shape[0] >= SERIAL_BELOW else 1)
+                                                      query_workers(dst.shape[0]))
                 self.tgt_normals = normals
                 self.tgt_ok = (planarity > PLANARITY_MIN).astype(float)
             else:
@@ -181,16 +211,19 @@ class _Problem:
 
     def match(self, transform: FloatArray) -> _Match:
         d = self.src.shape[1]
-        moved = self.src @ transform[:d, :d].T + transform[:d, d]
+        moved = self.moved[self.flip]
+        self.flip ^= 1
+        np.matmul(self.src, transform[:d, :d].T, out=moved)
+        moved += transform[:d, d]
+        dist, idx = self.nearest(moved, transform)
         if self.max_dist is None:
-            dist, idx = cast(KnnQuery, self.tree.query(moved, workers=self.workers))
-            src = np.arange(self.n)
+            src = self.all
         else:
-            # The tree's cut-off compares rounded squares: search a hair wider, cut exactly.
-            dist, idx = cast(KnnQuery, self.tree.query(
-                moved, distance_upper_bound=self.max_dist * (1 + 1e-9), workers=self.workers))
             src = np.flatnonzero(dist <= self.max_dist)
-            dist, idx = dist[src], idx[src]
+            if src.size == self.n:  # every point within the bound: no copies
+                src = self.all
+            else:
+                dist, idx = dist[src], idx[src]
         inliers = src.size
         keep = min(inliers, math.ceil(self.overlap * self.n))
         if keep < inliers:  # trimmed ICP: the overlap fraction of smallest distances
@@ -198,6 +231,94 @@ class _Problem:
             src, dist, idx = src[part], dist[part], idx[part]
         return _Match(src.astype(np.int64, copy=False), idx.astype(np.int64, copy=False), dist,
                       inliers, moved)
+
+    def nearest(self, moved: FloatArray, transform: FloatArray) -> tuple[FloatArray, IntArray]:
+        r"""Each moved point's nearest target point and its distance, exactly as one query of
+        the tree gives them (within the correspondence bound; beyond it distance inf and
+        index ``m``), with most of the query skipped once the points move little.
+
+        A query of the two nearest target points at distances ``d1 < d2`` proves that no
+        other target point lies within ``d2`` of the point. After the point moves by at
+        most ``δ``, no other target point lies within ``d2 - δ`` (triangle inequality), so
+        the partner is still the nearest when its new distance is below ``d2 - δ``: then
+        it is kept, and only the other points are queried. ``δ`` is bounded from the two
+        transforms, :math:`\lVert\Delta A\rVert_F \max_i\lVert x_i - \bar x\rVert +
+        \lVert\Delta A\,\bar x + \Delta t\rVert`, and summed over the iterations since the
+        point's last query. The kept distance is computed as the tree computes it (the
+        same bits); ties ``d1 = d2`` are queried again for the tree's own choice. The
+        second neighbour costs about 20% more per query: it is asked for only while steps
+        as large as the last would keep at least ``KEEP_WORTH`` of the points (judged on
+        the gaps ``d2 - d1`` of the last such query), so slowly converging runs (plain
+        point-to-point) pay one such query, and the plane metrics' fast convergence skips
+        most of their queries."""
+        d = self.src.shape[1]
+        # The tree's cut-off compares rounded squares: search a hair wider, cut exactly.
+        bound = math.inf if self.max_dist is None else self.max_dist * (1 + 1e-9)
+        step = transform - self.last
+        shift = step[:d, :d] @ self.x_mean + step[:d, d]
+        moved_by = (float(np.linalg.norm(step[:d, :d])) * self.reach
+                    + float(np.linalg.norm(shift))) * (1 + KEEP_RTOL)
+        self.last = transform
+        rest: IntArray | None = None
+        if self.partner is None:
+            dist, idx = np.empty(self.n), np.empty(self.n, dtype=np.intp)
+        else:
+            if self.half_gap is None:
+                self.half_gap = self._half_gaps(bound)
+            tol = KEEP_RTOL * (self.extent + float(np.linalg.norm(transform[:d, d])))
+            self.slack -= moved_by + tol
+            diff = np.take(self.dst, self.partner, axis=0, mode="clip")  # m: never kept
+            np.subtract(moved, diff, out=diff)
+            np.multiply(diff, diff, out=diff)
+            dist = np.sqrt(diff.sum(axis=1))  # as cKDTree sums: the same bits
+            keep = dist < self.slack
+            keep |= dist < np.take(self.half_gap, self.partner) - tol
+            rest = np.flatnonzero(~keep)
+            idx = self.partner.copy()
+        every = rest is None or rest.size == self.n
+        pts = moved if every else np.take(moved, cast(IntArray, rest), axis=0)
+        if pts.shape[0] == 0:
+            return dist, idx
+        workers = query_workers(pts.shape[0])
+        worth = self.gaps is None or \
+            1.0 - np.searchsorted(self.gaps, 2.0 * moved_by) / self.gaps.size >= KEEP_WORTH
+        slack: FloatArray | float = -math.inf
+        if not worth:  # the points move too far to keep their partners: one neighbour
+            near, nearest = cast(KnnQuery, self.tree.query(
+                pts, distance_upper_bound=bound, workers=workers))
+        else:
+            two, which = cast(tuple[FloatArray, IntArray], self.tree.query(
+                pts, k=2, distance_upper_bound=bound, workers=workers))
+            near, nearest = two[:, 0].copy(), which[:, 0].copy()
+            tie = np.flatnonzero((two[:, 0] == two[:, 1]) & np.isfinite(two[:, 0]))
+            if tie.size:  # the tree's own pick among equals, as a one-neighbour query makes it
+                _, nearest[tie] = cast(KnnQuery, self.tree.query(
+                    pts[tie], distance_upper_bound=bound, workers=1))
+            found = np.isfinite(two[:, 1])
+            gaps = two[found, 1] - two[found, 0]
+            self.gaps = np.sort(gaps[::max(1, gaps.size // GAP_SAMPLE)]) if gaps.size else \
+                np.zeros(1)
+            slack = np.where(np.isfinite(two[:, 1]), two[:, 1], bound) * (1 - KEEP_RTOL)
+            slack[~np.isfinite(near)] = -math.inf  # no partner: queried every time
+        if every:
+            self.partner = nearest
+            self.slack[:] = slack
+            return near, nearest
+        dist[rest], idx[rest], self.slack[rest] = near, nearest, slack
+        self.partner = idx
+        return dist, idx
+
+    def _half_gaps(self, bound: float) -> FloatArray:
+        """Half the distance from each target point to its nearest other one (less a
+        margin, and below the correspondence bound): a point nearer than that to a target
+        point has it as its unique nearest (any other is at least the whole gap from it);
+        ``-inf`` for the index ``m`` of "no partner"."""
+        m = self.dst.shape[0]
+        two, _ = cast(tuple[FloatArray, IntArray], self.tree.query(
+            self.dst, k=2, workers=query_workers(m)))
+        out = np.full(m + 1, -math.inf)
+        out[:m] = np.minimum(0.5 * two[:, 1], bound) * (1 - KEEP_RTOL)
+        return out
 
     def weights(self, residual: FloatArray) -> FloatArray | None:
         """IRLS weights ``ψ(r)/r`` of the robust kernel for absolute residuals ``residual``."""
@@ -228,14 +349,21 @@ class _Problem:
         # same minimiser as fitting the correction from the moved points and composing
         # (the models are groups), without the composition's accumulated rounding.
         # every source point paired (the usual case once aligned): no copy of the source
-        x = self.src if m.src.size == self.n else self.src[m.src]
-        y = self.dst[m.tgt]
+        every = m.src.size == self.n
+        x = self.src if every else np.take(self.src, m.src, axis=0)
+        # np.take: faster than fancy indexing, the same values
+        y = np.take(self.dst, m.tgt, axis=0, out=self.y[:m.tgt.size])
         w = self.weights(m.dist)
         if w is not None and not w.any():
             raise DegenerateInputError("every correspondence has zero weight under the "
                                        f"{self.kernel} kernel", field=None)
         if self.model == "rigid" and w is None:  # the common case, without rigid()'s
-            pairs = trusted_pairs(x, y)          # checks and rmse: the data are checked
+            if every:                            # checks and rmse: the data are checked
+                y_mean = (self.ones @ y) / self.n
+                pairs = Pairs(x, y, None, float(self.n), self.x_mean, y_mean, self.xc,
+                              np.subtract(y, y_mean, out=self.yc))
+            else:
+                pairs = trusted_pairs(x, y)
             rotation = rotation_fit(pairs, reflect_ok=False).rotation
             return homogeneous(rotation, pairs.y_mean - rotation @ pairs.x_mean)
         if self.model == "rigid":
@@ -255,9 +383,12 @@ class _Problem:
             ns = ns * np.where(np.einsum("ij,ij->i", ns, n) < 0, -1.0, 1.0)[:, None]
             n = ns + n
         centre = p.mean(axis=0)
+        # the symmetric objective centres each set at its own centroid (Rusinkiewicz 2019):
+        # x -> q̄ + R½(R½(x - p̄) + t), exact in one step for an exact rigid motion
+        q_centre = q.mean(axis=0) if self.metric == "symmetric" else centre
         radius = math.sqrt(float(np.mean(np.einsum("ij,ij->i", p - centre, p - centre))))
         radius = radius if radius > 0 else 1.0
-        ph, qh = (p - centre) / radius, (q - centre) / radius
+        ph, qh = (p - centre) / radius, (q - q_centre) / radius
         r = np.einsum("ij,ij->i", ph - qh, n)
         if self.metric == "symmetric":
             jac = np.hstack([np.cross(ph + qh, n), n])
@@ -298,7 +429,7 @@ class _Problem:
             shift = delta[-3:]
         inc = np.eye(4)
         inc[:3, :3] = lin
-        inc[:3, 3] = centre - lin @ centre + radius * shift
+        inc[:3, 3] = q_centre - lin @ centre + radius * shift
         return _project(inc @ transform, self.model)
 
 
@@ -379,7 +510,10 @@ def icp(
     tolerance : float, default 1e-6
         Stop when the RMSE changes by less than this fraction of its previous value in an
         iteration, ``>= 0``; the iterations also stop when the correspondences no longer
-        change, so 0 stops only there or at ``max_iterations``.
+        change, so 0 stops only there or at ``max_iterations``. Open3D's
+        ``ICPConvergenceCriteria`` has the same defaults (30 iterations, 1e-6) but stops when
+        both the fitness and the inlier RMSE change by less than 1e-6 in absolute terms; a
+        relative change does not depend on the data's units.
     max_correspondence_distance : float, optional
         Pairs farther apart than this (``> 0``) are ignored in the fit and in ``rmse`` and
         do not count towards ``fitness``. No bound when omitted.
@@ -407,7 +541,7 @@ def icp(
     normal_neighbors : int, default 10
         Neighbours per estimated normal, ``>= 2``: the point and this many others
         (Open3D's ``KDTreeSearchParamKNN(knn)`` counts the point itself, so this is its
-        ``knn - 1``).
+        ``knn - 1``; Open3D's default ``knn=30`` smooths more: pass 29 for its normals).
     progress : callable, optional
         ``progress(done, total, message)`` after every iteration; it may raise
         :class:`~algorithms.core.errors.Cancelled`, which propagates.
@@ -456,10 +590,14 @@ def icp(
     partners (the same minimiser, since each model is a group, with no accumulated
     rounding), for the plane metrics increment after increment.
 
-    **Where the plane steps linearise.** The point-to-plane and symmetric steps linearise
-    the rotation about the centroid of the moved source (coordinates centred and scaled
-    there); Open3D's ``TransformationEstimationPointToPlane`` linearises about the origin of
-    the coordinates. Each step is then a different approximation of the same exact
+    **Where the plane steps linearise.** The point-to-plane step linearises the rotation
+    about the centroid of the moved source (coordinates centred and scaled there); the
+    symmetric step centres the matched source points at their centroid and the matched
+    target points at theirs, as Rusinkiewicz's objective is stated, so that one step
+    recovers an exact rigid motion (``x -> q̄ + R½(R½(x - p̄) + t)``; centred at the source's
+    centroid alone, a step is off by the rotation's second-order term). Open3D's
+    ``TransformationEstimationPointToPlane`` linearises about the origin of the coordinates.
+    Each step is then a different approximation of the same exact
     minimiser, so the iterates differ while the fixed point is the same. Measured against
     Open3D 0.20 (4,000 points of a lumpy closed surface turned by 11° and moved, normals
     from Open3D, threshold 0.3): RMSE after 1, 2 and 5 iterations +0.38 %, +0.005 % and
@@ -490,7 +628,12 @@ def icp(
     **Cost.** One kd-tree of the target; per iteration one batched query of ``n`` points
     (multi-threaded from 8192 points, in the source's spatial order for cache locality)
     and one ``O(n d²)`` fit: :math:`O(k\,n \log m)` for ``k`` iterations, times
-    :math:`2^{d-1}` with ``init="pca"``.
+    :math:`2^{d-1}` with ``init="pca"``. A point whose previous partner provably stays its
+    nearest target point is not queried again: when the partner is nearer than half the
+    gap to the partner's own nearest neighbour, or (while the steps are small, as in the
+    last iterations of the plane metrics) nearer than the previous second-nearest target
+    point less the distance moved since. The pairs are exactly those of a full query.
+    The loop runs with BLAS on one thread (:mod:`algorithms.core.threads`).
 
     References
     ----------
@@ -551,19 +694,22 @@ def icp(
     else:
         check_span(dst, "target", need, span_why)
 
-    starts = _initial_transforms(init, src, dst, model)
-    prob = _Problem(src, dst, model=model, metric=metric, kernel=kernel,
-                    kernel_scale=kernel_scale, max_dist=max_correspondence_distance,
-                    overlap=overlap, min_pairs=min_pairs, target_normals=t_normals,
-                    source_normals=s_normals if metric == "symmetric" else None,
-                    normal_neighbors=normal_neighbors)
-    total = len(starts) * max_iterations
-    best: _Run | None = None
-    for k, start in enumerate(starts):
-        run = _iterate(prob, start, max_iterations, tolerance, report, k * max_iterations,
-                       total)
-        if best is None or _better(run, best, prob.n):
-            best = run
+    # the package's thread policy (algorithms.core.threads): the kd-tree's workers for the
+    # queries, one BLAS thread for the thin (n, d) products between them
+    with single_blas_thread():
+        starts = _initial_transforms(init, src, dst, model)
+        prob = _Problem(src, dst, model=model, metric=metric, kernel=kernel,
+                        kernel_scale=kernel_scale, max_dist=max_correspondence_distance,
+                        overlap=overlap, min_pairs=min_pairs, target_normals=t_normals,
+                        source_normals=s_normals if metric == "symmetric" else None,
+                        normal_neighbors=normal_neighbors)
+        total = len(starts) * max_iterations
+        best: _Run | None = None
+        for k, start in enumerate(starts):
+            run = _iterate(prob, start, max_iterations, tolerance, report,
+                           k * max_iterations, total)
+            if best is None or _better(run, best, prob.n):
+                best = run
     assert best is not None
     if not best.converged:
         warn(f"ICP did not converge: {best.reason}.", ConvergenceWarning)

@@ -5,10 +5,11 @@ by pairwise ICP and pose-graph optimisation on SE(3) when they do not
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, validate_params
 from algorithms.core.progress import Progress
+from algorithms.core.threads import single_blas_thread
 from algorithms.registration._point_sets import (
     MultiwayResult,
     PointSetsLike,
@@ -16,10 +17,24 @@ from algorithms.registration._point_sets import (
     check_sets,
     check_transforms,
 )
-from algorithms.registration.pose_graph import METRICS, Metric, pose_graph
+from algorithms.registration.pose_graph import METRICS, Metric, check_neighbors, pose_graph
 from algorithms.registration.procrustes import MODELS, Model, generalized_procrustes
 
-__all__ = ["MultiwayResult", "multiway", "check_sets", "check_transforms", "MODELS", "METRICS"]
+__all__ = ["MultiwayResult", "multiway", "check_multiway", "check_sets", "check_transforms",
+           "MODELS", "METRICS"]
+
+
+def check_multiway(sets: Any, correspondences: bool = True, model: str = "rigid",
+                   metric: str = "symmetric", init: Any = None, neighbors: Any = None) -> None:
+    """Check the inputs of :func:`multiway` as its two methods do: the sets' count, lengths
+    and dimensions (:func:`check_sets`), the starting transforms against them
+    (:func:`check_transforms`) and, without correspondences, ``neighbors`` against their
+    number."""
+    pts = check_sets(sets, correspondences=correspondences, model=model, metric=metric)
+    if init is not None:
+        check_transforms(init, len(pts), pts[0].shape[1], model)
+    if not correspondences:
+        check_neighbors(neighbors, len(pts))
 
 
 @validate_params
@@ -40,7 +55,13 @@ def multiway(
     icp_max_iterations: Annotated[int, Ge(1)] = 30,
     progress: Progress | None = None,
 ) -> MultiwayResult:
-    r"""Register ``k >= 2`` point sets at once; one transform per set into set 0's frame.
+    r"""Multiway registration: generalised Procrustes or pose graph.
+
+    Registers several point sets at once into the frame of set 0. With correspondences: generalised
+    Procrustes analysis (rigid or similarity, any dimension), iterated to the mean shape. Without:
+    pairwise ICP (coarse to fine, symmetric metric, point-to-point polish) with information
+    matrices, then pose-graph optimisation on SE(3) by Levenberg-Marquardt with line processes for
+    loop closures, low-fitness and inconsistent edges pruned (as Open3D's multiway registration).
 
     **With correspondences** (row ``j`` of every set is the same point): generalised
     Procrustes analysis (Gower 1975), :func:`~algorithms.registration.generalized_procrustes`:
@@ -84,7 +105,8 @@ def multiway(
         optimisation round (two rounds), ``>= 1``.
     tolerance : float, default 1e-9
         Stop when the objective decreases by less than this fraction of its value in an
-        iteration, ``>= 0``.
+        iteration, ``>= 0`` (tighter than Open3D's pose-graph criteria, 1e-6: the
+        iterations are cheap at the sizes of a multiway problem).
     max_correspondence_distance : float, optional
         Pose graph: the pairs' distance bound (``> 0``, in the points' units) of the fine
         pairwise ICP (the coarse stages use 4 and 2 × it), of the edges' information
@@ -177,9 +199,12 @@ def multiway(
            [ 0.,  0.,  1.]])
     """
     if correspondences:
-        return generalized_procrustes(sets, model=model, init=init,
-                                      max_iterations=max_iterations, tolerance=tolerance,
-                                      progress=progress)
+        # the thread policy (algorithms.core.threads): thin (n, d) products, one BLAS thread;
+        # without correspondences, each pairwise ICP applies it itself
+        with single_blas_thread():
+            return generalized_procrustes(sets, model=model, init=init,
+                                          max_iterations=max_iterations, tolerance=tolerance,
+                                          progress=progress)
     check_rigid(model)
     return pose_graph(sets, init=init, max_iterations=max_iterations, tolerance=tolerance,
                       max_correspondence_distance=max_correspondence_distance, metric=metric,

@@ -126,7 +126,9 @@ def pose_graph(
         Most Levenberg-Marquardt iterations per optimisation round (two rounds), ``>= 1``.
     tolerance : float, default 1e-9
         Stop an optimisation round when the objective decreases by less than this fraction
-        of its value in an iteration, ``>= 0``.
+        of its value in an iteration, ``>= 0``. (Open3D's
+        ``GlobalOptimizationConvergenceCriteria`` stops at a relative increment of 1e-6;
+        the tighter default costs a few cheap iterations on graphs of tens of nodes.)
     max_correspondence_distance : float, optional
         The pairs' distance bound (``> 0``, in the points' units) of the fine pairwise ICP
         (the coarse stages use 4 and 2 × it), of the information matrices and of

@@ -17,7 +17,7 @@ from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, Inv
 from algorithms.core.linalg import RANK_RTOL, numerical_rank, procrustes
 from algorithms.core.params import Ge, Gt, Interval, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.threads import single_blas_thread
+from algorithms.core.threads import SERIAL_BELOW, query_workers, single_blas_thread
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 from algorithms.registration._normals import estimate_normals
@@ -31,7 +31,7 @@ from algorithms.registration.features import (
 )
 from algorithms.registration.icp import Metric, icp
 
-__all__ = ["RANSACResult", "ransac", "check_inputs", "FEATURES"]
+__all__ = ["RANSACResult", "ransac", "check_ransac", "check_inputs", "FEATURES"]
 
 Features = Literal["fpfh", "none"]
 #: The accepted values of ``features``.
@@ -51,7 +51,7 @@ SCORE_POINTS = 2000
 #: Source points the ICP refinement uses at most (a seeded subsample above).
 REFINE_POINTS = 20000
 #: kd-tree queries of this many points or more run on all cores (results are per point).
-PARALLEL_FROM = 8192
+PARALLEL_FROM = SERIAL_BELOW
 #: ICP iterations of the refinement.
 REFINE_ITERATIONS = 30
 #: Default radii, in units of the length scale (``voxel_size`` or the point spacing), as in
@@ -181,8 +181,15 @@ def ransac(
     seed: Seed = 0,
     progress: Progress | None = None,
 ) -> RANSACResult:
-    r"""Register ``source`` onto ``target`` rigidly without a start: random sample consensus
-    over candidate correspondences, then ICP.
+    r"""RANSAC global registration (FPFH features or random triples) + ICP.
+
+    Registers source onto target rigidly without a start: candidate pairs from mutually matched FPFH
+    features (or, for small sets, random point triples of each set), seeded random samples of 3
+    pairs checked by edge lengths, Kabsch fits scored by truncated squared error, confidence-based
+    stopping. Without voxel_size: two down-sampling passes (1.5 and 3 × the point spacing), the best
+    hypotheses re-scored and ICP-checked on the point sets, a robust (Tukey) ICP refinement against
+    the full target; with voxel_size: Open3D's single pass, then point-to-plane ICP. The same seed
+    gives the same result; converged=false with a reason instead of a silent identity.
 
     1. **Down-sampling**: with ``voxel_size`` each set is replaced by the centroids of its
        points in each occupied voxel. With features and no ``voxel_size``, two passes of
@@ -367,12 +374,9 @@ def ransac(
     True
     """
     report = as_progress(progress)
-    src = as_points(source, name="source", min_dim=2)
-    dst = as_points(target, name="target")
-    same_dim(src, dst, names=("source", "target"))
+    src, dst, (s, need) = check_ransac(source, target, features)
     d = src.shape[1]
     voxel, radius, tau = voxel_size, feature_radius, max_correspondence_distance
-    s, need = check_inputs(src, dst, features)
     rng = np.random.default_rng(seed)
 
     # 1. down-sampling and scales
@@ -441,7 +445,7 @@ def ransac(
     report(total, total, "RANSAC finished")
 
     # per-point queries: threads change the speed, never the result
-    workers = -1 if src.shape[0] >= PARALLEL_FROM else 1
+    workers = query_workers(src.shape[0])
     dist, _ = cast(KnnQuery, dst_tree.query(
         src @ transform[:d, :d].T + transform[:d, d], distance_upper_bound=tau * (1 + 1e-9),
         workers=workers))
@@ -563,7 +567,7 @@ def _truncated(pts: FloatArray, tree: cKDTree, transform: FloatArray, tau: float
     """Sum over ``pts`` of min(r², τ²), r the distance of the moved point to the nearest
     point of ``tree``."""
     d = pts.shape[1]
-    workers = -1 if pts.shape[0] >= PARALLEL_FROM else 1
+    workers = query_workers(pts.shape[0])
     dist, _ = tree.query(pts @ transform[:d, :d].T + transform[:d, d],
                          distance_upper_bound=tau * (1 + 1e-9), workers=workers)
     r = np.minimum(dist, tau)
@@ -630,7 +634,7 @@ def _polish(pts: FloatArray, dst: FloatArray, tree: cKDTree, start: FloatArray, 
         var = np.linalg.eigvalsh(centred.T @ centred / len(dst))[::-1]
         if numerical_rank(np.maximum(var, 0.0), RANK_RTOL) == 3:
             metric = "point_to_plane"
-            workers = -1 if dst.shape[0] >= PARALLEL_FROM else 1
+            workers = query_workers(dst.shape[0])
             normals, _ = estimate_normals(dst, tree, NORMAL_NEIGHBORS, workers)
     try:
         with warnings.catch_warnings():
@@ -647,6 +651,17 @@ def _polish(pts: FloatArray, dst: FloatArray, tree: cKDTree, start: FloatArray, 
                                f"{res.reason})")
     return start, (f"{metric} ICP refinement ({res.reason}) raised the truncated error: the "
                    "RANSAC transform is kept")
+
+
+def check_ransac(source: Any, target: Any, features: str = "fpfh"
+                 ) -> tuple[FloatArray, FloatArray, tuple[int, int]]:
+    """Check the inputs of :func:`ransac`: two point sets of one dimension (at least 2),
+    then as :func:`check_inputs`. Returns both sets and the sample size with the points it
+    needs."""
+    src = as_points(source, name="source", min_dim=2)
+    dst = as_points(target, name="target")
+    same_dim(src, dst, names=("source", "target"))
+    return src, dst, check_inputs(src, dst, features)
 
 
 def check_inputs(src: FloatArray, dst: FloatArray, features: str) -> tuple[int, int]:
@@ -883,7 +898,7 @@ def _refine(src: FloatArray, t_pts: FloatArray, t_normals: FloatArray | None,
         if numerical_rank(np.maximum(var, 0.0), RANK_RTOL) == 3:
             metric = "point_to_plane"
     tree = cKDTree(t_pts)
-    workers = -1 if pts.shape[0] >= PARALLEL_FROM else 1
+    workers = query_workers(pts.shape[0])
     normals = t_normals if metric == "point_to_plane" else None
     if metric == "point_to_plane" and normals is None:
         normals = feature_normals(t_pts, tree, NORMAL_NEIGHBORS)

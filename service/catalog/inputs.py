@@ -28,7 +28,7 @@ from algorithms.core.params import Kind
 from algorithms.core.validation import as_points
 
 __all__ = ["max_points", "Points", "Weights", "Labels", "points_schema", "MeshInput", "Handles",
-           "HandlesInput", "GraphInput", "mesh_schema", "handles_schema", "KIND_TYPES"]
+           "HandlesInput", "GraphInput", "mesh_schema", "handles_type", "tolist", "KIND_TYPES"]
 
 
 def points_schema(description: str, *, dim: int | None = None,
@@ -64,7 +64,7 @@ def _validate_weights(value: Any, info: ValidationInfo) -> np.ndarray:
     return arr  # length, sign and finiteness against the paired points: as_weights
 
 
-def _tolist(a: np.ndarray) -> list[Any]:
+def tolist(a: np.ndarray) -> list[Any]:
     values: list[Any] = a.tolist()
     return values
 
@@ -72,7 +72,7 @@ def _tolist(a: np.ndarray) -> list[Any]:
 Points = Annotated[
     np.ndarray,
     PlainValidator(_validate_points),
-    PlainSerializer(_tolist),
+    PlainSerializer(tolist),
     WithJsonSchema(points_schema("An (n, d) array of point coordinates, one row per point.")),
 ]
 """An (n, d) float array of points, given as a JSON array of rows."""
@@ -80,14 +80,20 @@ Points = Annotated[
 Weights = Annotated[
     np.ndarray,
     PlainValidator(_validate_weights),
-    PlainSerializer(_tolist),
+    PlainSerializer(tolist),
     WithJsonSchema({"type": "array", "items": {"type": "number", "minimum": 0},
                     "description": "One non-negative weight per point pair."}),
 ]
 """A flat float array of per-pair weights."""
 
 
-def mesh_schema(description: str) -> dict[str, Any]:
+_TRIANGLES = ("One row of 3 vertex indices (0-based) per triangle, counter-clockwise seen "
+              "from the front.")
+
+
+def mesh_schema(description: str, *, faces: str = _TRIANGLES,
+                corners: tuple[int, int] = (3, 3)) -> dict[str, Any]:
+    """A mesh's JSON Schema; ``faces`` describes its faces, of ``corners`` vertices each."""
     return {
         "type": "object",
         "description": description,
@@ -96,29 +102,11 @@ def mesh_schema(description: str) -> dict[str, Any]:
                          "coordinates per vertex.",
                          "items": {"type": "array", "items": {"type": "number"},
                                    "minItems": 2, "maxItems": 3}},
-            "faces": {"type": "array", "minItems": 1, "description": "One row of 3 vertex "
-                      "indices (0-based) per triangle, counter-clockwise seen from the front.",
+            "faces": {"type": "array", "minItems": 1, "description": faces,
                       "items": {"type": "array", "items": {"type": "integer", "minimum": 0},
-                                "minItems": 3, "maxItems": 3}},
+                                "minItems": corners[0], "maxItems": corners[1]}},
         },
         "required": ["vertices", "faces"],
-        "additionalProperties": False,
-    }
-
-
-def handles_schema(description: str) -> dict[str, Any]:
-    return {
-        "type": "object",
-        "description": description,
-        "properties": {
-            "indices": {"type": "array", "minItems": 1, "description": "Distinct vertex "
-                        "indices (0-based).", "items": {"type": "integer", "minimum": 0}},
-            "positions": {"type": "array", "minItems": 1, "description": "Target position "
-                          "of each handle, row i for indices[i], same dimension as the mesh.",
-                          "items": {"type": "array", "items": {"type": "number"},
-                                    "minItems": 2, "maxItems": 3}},
-        },
-        "required": ["indices", "positions"],
         "additionalProperties": False,
     }
 
@@ -162,6 +150,29 @@ def _handles_json(h: HandlesData) -> dict[str, Any]:
     return {"indices": h.indices.tolist(), "positions": h.positions.tolist()}
 
 
+def handles_type(description: str, *, indices: str = "Distinct vertex indices (0-based).",
+                 positions: str = "Target position of each handle, row i for indices[i], "
+                 "same dimension as the mesh.", max_dim: int | None = 3) -> Any:
+    """The input type of vertices held at positions, ``{"indices": [...], "positions":
+    [[...], ...]}``, validated into :class:`algorithms.core.mesh.Handles` (structure only:
+    the process's check holds them against its mesh or graph); positions of 2 to
+    ``max_dim`` coordinates (no upper bound when None)."""
+    row: dict[str, Any] = {"type": "array", "items": {"type": "number"}, "minItems": 2}
+    if max_dim is not None:
+        row["maxItems"] = max_dim
+    return Annotated[HandlesData, PlainValidator(_validate_handles),
+                     PlainSerializer(_handles_json), WithJsonSchema({
+                         "type": "object", "description": description,
+                         "properties": {
+                             "indices": {"type": "array", "minItems": 1,
+                                         "description": indices,
+                                         "items": {"type": "integer", "minimum": 0}},
+                             "positions": {"type": "array", "minItems": 1,
+                                           "description": positions, "items": row}},
+                         "required": ["indices", "positions"],
+                         "additionalProperties": False})]
+
+
 MeshInput = Annotated[
     Mesh,
     PlainValidator(_validate_mesh),
@@ -171,13 +182,7 @@ MeshInput = Annotated[
 """A triangle mesh, given as ``{"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}``;
 validated into :class:`algorithms.core.mesh.Mesh`."""
 
-Handles = Annotated[
-    HandlesData,
-    PlainValidator(_validate_handles),
-    PlainSerializer(_handles_json),
-    WithJsonSchema(handles_schema("Vertices to move and where: their indices and target "
-                                  "positions.")),
-]
+Handles = handles_type("Vertices to move and where: their indices and target positions.")
 """Deformation handles, given as ``{"indices": [...], "positions": [[...], ...]}``; validated
 into :class:`algorithms.core.mesh.Handles` (structure only: check them against the mesh with
 ``as_handles(handles, mesh)`` in a model validator)."""
@@ -243,7 +248,7 @@ def _validate_labels(value: Any, info: ValidationInfo) -> np.ndarray:
 Labels = Annotated[
     np.ndarray,
     PlainValidator(_validate_labels),
-    PlainSerializer(_tolist),
+    PlainSerializer(tolist),
     WithJsonSchema({"type": "array", "items": {"type": ["integer", "string"]},
                     "minItems": 1, "description": "One class label per point: integers or "
                     "strings."}),

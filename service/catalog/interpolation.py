@@ -3,31 +3,28 @@ frames of the path between them out)."""
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Annotated, Any
 
 import numpy as np
 from pydantic import PlainSerializer, PlainValidator, ValidationInfo, WithJsonSchema
 
-from algorithms.alignment import affine as fit_affine
-from algorithms.alignment import rigid as fit_rigid
-from algorithms.alignment import similarity as fit_similarity
 from algorithms.core.errors import InvalidInputError
 from algorithms.core.mesh import Mesh
 from algorithms.interpolation import (
     MAX_FRAMES,
-    Pair,
     affine,
     arap,
-    check_frame_count,
+    check_anchored,
     poisson,
-    read_pair,
     read_shape,
     read_times,
     rigid,
 )
-from algorithms.interpolation.rigid import split_similarity
+from algorithms.interpolation.affine import check_affine
+from algorithms.interpolation.rigid import check_rigid
 from service import scenes
-from service.catalog.inputs import Points, max_points, points_schema
+from service.catalog.inputs import Points, max_points, mesh_schema, points_schema
 from service.catalog.registry import Process, registry
 
 # A 4 × 1 strip in the plane (ten vertices, eight triangles) ...
@@ -48,23 +45,9 @@ _QUARTER = [[0.0, -1.0, 2.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
 _TIMES = [0.0, 0.25, 0.5, 0.75, 1.0]
 
 
-def _mesh_schema(description: str) -> dict[str, Any]:
-    return {
-        "type": "object",
-        "description": description,
-        "properties": {
-            "vertices": {"type": "array", "minItems": 3, "description": "One row of 2 or 3 "
-                         "coordinates per vertex.",
-                         "items": {"type": "array", "items": {"type": "number"},
-                                   "minItems": 2, "maxItems": 3}},
-            "faces": {"type": "array", "minItems": 1, "description": "One row of 3 vertex "
-                      "indices per triangle or, in 3-D, 4 per tetrahedron (0-based).",
-                      "items": {"type": "array", "items": {"type": "integer", "minimum": 0},
-                                "minItems": 3, "maxItems": 4}},
-        },
-        "required": ["vertices", "faces"],
-        "additionalProperties": False,
-    }
+_SOLIDS = "One row of 3 vertex indices per triangle or, in 3-D, 4 per tetrahedron (0-based)."
+_MESH = mesh_schema("A mesh: vertices and triangles (or tetrahedra in 3-D).", faces=_SOLIDS,
+                    corners=(3, 4))
 
 
 def _shape(value: Any, info: ValidationInfo, need_faces: bool) -> Mesh | np.ndarray:
@@ -106,9 +89,8 @@ ShapeInput = Annotated[
     Any,
     PlainValidator(_validate_shape),
     PlainSerializer(_shape_json),
-    WithJsonSchema({"anyOf": [_POINTS, _mesh_schema(
-        "A mesh: vertices and triangles (or tetrahedra in 3-D).")],
-        "description": "A point set (n, d) or a mesh {vertices, faces}."}),
+    WithJsonSchema({"anyOf": [_POINTS, _MESH],
+                    "description": "A point set (n, d) or a mesh {vertices, faces}."}),
 ]
 """A point set or a mesh (triangles, or tetrahedra in 3-D)."""
 
@@ -116,10 +98,8 @@ MeshShapeInput = Annotated[
     Any,
     PlainValidator(_validate_mesh),
     PlainSerializer(_shape_json),
-    WithJsonSchema({"anyOf": [_mesh_schema(
-        "A mesh: vertices and triangles (or tetrahedra in 3-D)."), _POINTS],
-        "description": "A mesh {vertices, faces} (the target may also be its vertices "
-        "alone)."}),
+    WithJsonSchema({"anyOf": [_MESH, _POINTS], "description": "A mesh {vertices, faces} "
+                    "(the target may also be its vertices alone)."}),
 ]
 """A mesh (the source); the target may be given as its vertices alone."""
 
@@ -138,105 +118,18 @@ _SHAPES = {"source": ShapeInput, "target": ShapeInput | None, "transform": Point
 _MESHES = {**_SHAPES, "source": MeshShapeInput, "target": MeshShapeInput | None}
 
 
-def _pair(p: Any) -> Pair:
-    """The end shape (target or transform) fits the source; the frames fit the output cap."""
-    pair = read_pair(p.source, p.target, p.transform)
-    check_frame_count(pair.n, pair.dim, p.times if p.times is not None else read_times(None))
-    return pair
+_whole = partial(Process, geometry=scenes.animation, inputs=_SHAPES, fast_path=True)
+_per_face = partial(Process, geometry=scenes.animation, inputs=_MESHES, check=check_anchored,
+                    examples={"source": _STRIP, "target": _BENT, "times": _TIMES}, long=True)
 
-
-def _keeps_orientation(p: Any) -> None:
-    """As _pair, and the map (given, or the fit the job would make) mirrors only with flip."""
-    pair = _pair(p)
-    d = pair.dim
-    if pair.transform is not None:
-        a, field = pair.transform[:d, :d], "transform"
-    else:  # the fit the job would make: a flat source is refused now (422)
-        a, field = fit_affine(pair.source, pair.target).linear, "target"
-    if p.reflection == "refuse" and np.linalg.det(a) < 0:
-        raise InvalidInputError(
-            f"Expected the map to `{field}` to keep orientation (det A > 0), got a "
-            f"reflection; pass reflection='flip' to pass through a flattened shape once.",
-            field=field)
-
-
-def _is_rigid(p: Any) -> None:
-    """As _pair, and the transform is a rigid motion (a similarity with scale), or fits one."""
-    pair = _pair(p)
-    d = pair.dim
-    if pair.transform is not None:
-        split_similarity(pair.transform[:d, :d], p.scale)
-    elif p.scale:  # the fit the job would make: degenerate sources refused now
-        fit_similarity(pair.source, pair.target)
-    else:
-        fit_rigid(pair.source, pair.target)
-
-
-def _anchored(p: Any) -> None:
-    """As _pair, and the anchor is a vertex of the source."""
-    pair = _pair(p)
-    if p.anchor >= pair.n:
-        raise InvalidInputError(
-            f"Expected `anchor` to be a vertex index of `source` (below {pair.n}), got "
-            f"{p.anchor}.", field="anchor")
-
-
-registry.add(Process(
-    id="interpolation.affine",
-    geometry=scenes.animation,
-    title="Affine interpolation by polar decomposition",
-    description="A = R S (polar decomposition); R turns along the shortest arc (slerp), S "
-    "and the translation move linearly, so det A(t) > 0 all along the path. The map is "
-    "given or fitted to the target (its residual blended in, so t = 1 is the target).",
-    function=affine,
-    examples={"source": _SQUARE, "transform": _AFFINE, "times": _TIMES},
-    inputs=_SHAPES,
-    check=_keeps_orientation,
-    fast_path=True,
-    keywords=("interpolation", "homotopy", "polar decomposition", "slerp", "animation"),
-))
-
-registry.add(Process(
-    id="interpolation.rigid",
-    geometry=scenes.animation,
-    title="Rigid (or similarity) motion interpolation",
-    description="Fits a rigid motion (Kabsch) or similarity (Umeyama) to the target, or "
-    "takes the one given, and moves the shape along it: rotation by slerp (shortest arc), "
-    "pivot on a straight line, scale geometric (s^t).",
-    function=rigid,
-    examples={"source": _SQUARE, "transform": _QUARTER, "times": _TIMES},
-    inputs=_SHAPES,
-    check=_is_rigid,
-    fast_path=True,
-    keywords=("interpolation", "rigid", "similarity", "slerp", "animation"),
-))
-
-registry.add(Process(
-    id="interpolation.arap",
-    geometry=scenes.animation,
-    title="As-rigid-as-possible shape interpolation",
-    description="Per face, A_f = R_f S_f interpolated as slerp(R_f) lerp(I, S_f); the "
-    "vertices of each frame solve min Σ_f ‖B_f(x) − A_f(t)‖² with one vertex on its "
-    "straight path (one factored sparse system, one solve per frame).",
-    function=arap,
-    examples={"source": _STRIP, "target": _BENT, "times": _TIMES},
-    inputs=_MESHES,
-    check=_anchored,
-    long=True,
-    keywords=("interpolation", "morphing", "arap", "homotopy", "animation"),
-))
-
-registry.add(Process(
-    id="interpolation.poisson",
-    geometry=scenes.animation,
-    title="Poisson shape interpolation",
-    description="Per-face gradients interpolated (rotations made continuous across the "
-    "mesh then slerped, stretches lerped) and each frame recovered by a Poisson solve "
-    "L x = div(gradients) with the prefactored cotangent Laplacian.",
-    function=poisson,
-    examples={"source": _STRIP, "target": _BENT, "times": _TIMES},
-    inputs=_MESHES,
-    check=_anchored,
-    long=True,
-    keywords=("interpolation", "morphing", "poisson", "gradient field", "animation"),
-))
+registry.add(_whole(affine, check=check_affine,
+                    examples={"source": _SQUARE, "transform": _AFFINE, "times": _TIMES},
+                    keywords=("interpolation", "homotopy", "polar decomposition", "slerp",
+                              "animation")))
+registry.add(_whole(rigid, check=check_rigid,
+                    examples={"source": _SQUARE, "transform": _QUARTER, "times": _TIMES},
+                    keywords=("interpolation", "rigid", "similarity", "slerp", "animation")))
+registry.add(_per_face(arap, keywords=("interpolation", "morphing", "arap", "homotopy",
+                                       "animation")))
+registry.add(_per_face(poisson, keywords=("interpolation", "morphing", "poisson",
+                                          "gradient field", "animation")))

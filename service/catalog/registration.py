@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Annotated, Any
 
 import numpy as np
@@ -9,13 +10,12 @@ from annotated_types import Le
 from pydantic import PlainSerializer, PlainValidator, ValidationInfo, WithJsonSchema
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.validation import as_choice, as_points, same_dim
+from algorithms.core.validation import as_choice, as_points, check_point_sets
 from algorithms.registration import cpd, given_normals, icp, ransac
 from algorithms.registration.cpd import check_sizes
 from algorithms.registration.icp import INITS, check_init
-from algorithms.registration.multiway import check_sets, check_transforms, multiway
-from algorithms.registration.pose_graph import check_neighbors
-from algorithms.registration.ransac import check_inputs
+from algorithms.registration.multiway import check_multiway, multiway
+from algorithms.registration.ransac import check_ransac
 from service import scenes
 from service.catalog.inputs import max_points, points_schema
 from service.catalog.registry import Process, registry
@@ -108,117 +108,58 @@ Transforms = Annotated[
 
 
 # -- checks across inputs, before a job is queued -------------------------------------------
-def _icp_inputs(p: Any) -> None:
+def _icp_inputs(source: Any, target: Any, source_normals: Any, target_normals: Any,
+                init: Any, model: str) -> None:
     """Same dimension; normals one per point; a matrix start of the right size and model."""
-    same_dim(p.source, p.target, names=("source", "target"))
-    for normals, points, name in ((p.target_normals, p.target, "target_normals"),
-                                  (p.source_normals, p.source, "source_normals")):
+    check_point_sets(source, target)
+    for normals, points, name in ((target_normals, target, "target_normals"),
+                                  (source_normals, source, "source_normals")):
         if normals is not None:
             given_normals(normals, points.shape[0], name=name)
-    if not isinstance(p.init, str):
-        check_init(p.init, p.source.shape[1], p.model)
+    if not isinstance(init, str):
+        check_init(init, source.shape[1], model)
 
 
-def _cpd_inputs(p: Any) -> None:
+def _cpd_inputs(source: Any, target: Any, model: str, low_rank: int | None) -> None:
     """Same dimension; enough points for the model and the kernel asked for."""
-    same_dim(p.source, p.target, names=("source", "target"))
-    check_sizes(p.source, p.target, p.model, p.low_rank)
-
-
-def _ransac_inputs(p: Any) -> None:
-    """Same dimension; 3-D for features; enough points, not collinear."""
-    same_dim(p.source, p.target, names=("source", "target"))
-    check_inputs(p.source, p.target, p.features)
-
-
-def _multiway_inputs(p: Any) -> None:
-    """Counts, lengths, dimensions and flat sets; init and neighbors against the sets."""
-    sets = check_sets(p.sets, correspondences=p.correspondences, model=p.model,
-                      metric=p.metric)
-    k, d = len(sets), sets[0].shape[1]
-    if p.init is not None:
-        check_transforms(p.init, k, d, p.model)
-    if not p.correspondences:
-        check_neighbors(p.neighbors, k)
+    check_sizes(*check_point_sets(source, target), model, low_rank)
 
 
 _ITERATIONS = {"max_iterations": Le(10_000)}
 
-registry.add(Process(
-    id="registration.icp",
-    geometry=scenes.moved_source,
-    title="Iterative closest point (rigid, similarity, affine)",
+_moved = partial(Process, geometry=scenes.moved_source, limits=_ITERATIONS, long=True)
+
+# icp and cpd keep their texts here: their docstrings open with the mathematics
+registry.add(_moved(
+    icp, title="Iterative closest point (rigid, similarity, affine)",
     description="Registers source onto target without correspondences: nearest-neighbour "
     "pairs (one kd-tree), closed-form or linearised point-to-plane / symmetric fit, repeat "
     "until the pairs stop changing or the RMSE settles; identity, PCA (all sign choices) or "
     "matrix start; distance bound, trimming and Huber/Tukey kernels. Returns fitness and "
     "converged=false with a reason instead of a silent identity.",
-    function=icp,
-    examples={"source": _SOURCE, "target": _TARGET},
-    inputs={"init": InitInput},
-    limits={**_ITERATIONS, "normal_neighbors": Le(1000)},
-    check=_icp_inputs,
-    long=True,
-    keywords=("icp", "registration", "point cloud", "point-to-plane", "trimmed", "robust"),
-))
-
-registry.add(Process(
-    id="registration.cpd",
-    geometry=scenes.moved_source,
-    title="Coherent point drift (rigid with scale, affine, nonrigid)",
+    examples={"source": _SOURCE, "target": _TARGET}, inputs={"init": InitInput},
+    limits={**_ITERATIONS, "normal_neighbors": Le(1000)}, check=_icp_inputs,
+    keywords=("icp", "registration", "point cloud", "point-to-plane", "trimmed", "robust")))
+registry.add(_moved(
+    cpd, title="Coherent point drift (rigid with scale, affine, nonrigid)",
     description="Registers source onto target without correspondences as a Gaussian mixture "
     "fitted by EM: soft correspondences from every pair, closed-form rigid (optionally "
     "scaled) or affine M-steps, or a smooth nonrigid displacement with the motion coherence "
     "regulariser (exact or low-rank kernel); a uniform component of weight w absorbs "
     "outliers. Memory bounded: the M×N posterior is summed in blocks, never stored, so "
     "20,000 × 20,000 points need about 330 MB. Any dimension.",
-    function=cpd,
-    examples={"source": _SOURCE, "target": _CPD_TARGET},
-    limits=_ITERATIONS,
-    check=_cpd_inputs,
-    long=True,
+    examples={"source": _SOURCE, "target": _CPD_TARGET}, check=_cpd_inputs,
     keywords=("cpd", "coherent point drift", "registration", "point cloud", "nonrigid",
-              "gmm", "em"),
-))
-
-registry.add(Process(
-    id="registration.ransac",
-    geometry=scenes.moved_source,
-    title="RANSAC global registration (FPFH features or random triples) + ICP",
-    description="Registers source onto target rigidly without a start: candidate pairs from "
-    "mutually matched FPFH features (or, for small sets, random point triples of each set), "
-    "seeded random samples of 3 pairs checked by edge lengths, Kabsch fits scored by "
-    "truncated squared error, confidence-based stopping. Without voxel_size: two "
-    "down-sampling passes (1.5 and 3 × the point spacing), the best hypotheses re-scored and "
-    "ICP-checked on the point sets, a robust (Tukey) ICP refinement against the full target; "
-    "with voxel_size: Open3D's single pass, then point-to-plane ICP. The same seed gives the "
-    "same result; converged=false with a reason instead of a silent identity.",
-    function=ransac,
+              "gmm", "em")))
+registry.add(_moved(
+    ransac, check=check_ransac, limits={"max_iterations": Le(10_000_000)},
     examples={"source": _SOURCE, "target": _RANSAC_TARGET, "features": "none",
               "max_correspondence_distance": 0.05},
-    limits={"max_iterations": Le(10_000_000)},
-    check=_ransac_inputs,
-    long=True,
     keywords=("ransac", "global registration", "fpfh", "features", "registration",
-              "point cloud", "no initial guess"),
-))
-
-registry.add(Process(
-    id="registration.multiway",
-    geometry=scenes.moved_sets,
-    title="Multiway registration: generalised Procrustes or pose graph",
-    description="Registers several point sets at once into the frame of set 0. With "
-    "correspondences: generalised Procrustes analysis (rigid or similarity, any dimension), "
-    "iterated to the mean shape. Without: pairwise ICP (coarse to fine, symmetric metric, "
-    "point-to-point polish) with information matrices, then pose-graph optimisation on "
-    "SE(3) by Levenberg-Marquardt with line processes for loop closures, low-fitness and "
-    "inconsistent edges pruned (as Open3D's multiway registration).",
-    function=multiway,
-    examples={"sets": _MULTIWAY_SETS},
-    inputs={"sets": PointSets, "init": Transforms | None},
+              "point cloud", "no initial guess")))
+registry.add(_moved(
+    multiway, geometry=scenes.moved_sets, check=check_multiway,
+    examples={"sets": _MULTIWAY_SETS}, inputs={"sets": PointSets, "init": Transforms | None},
     limits={**_ITERATIONS, "icp_max_iterations": Le(10_000)},
-    check=_multiway_inputs,
-    long=True,
     keywords=("multiway", "generalized procrustes", "gpa", "pose graph", "registration",
-              "point cloud", "loop closure"),
-))
+              "point cloud", "loop closure")))

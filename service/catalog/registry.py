@@ -10,13 +10,18 @@ declares is read from it, never restated:
 - the **outputs**: the fields of the result dataclass the function's return annotation
   names, described by its numpydoc ``Attributes``.
 
-A catalog entry adds only what is the service's own: the id and the texts a process
-description shows, an example of each required input, service caps on sizes
-(``limits``), the cost hints (``long``, ``fast_path``), checks across inputs that can refuse
-a request before it is queued (``check``), JSON types for inputs whose kind has no general
-form (``inputs``) and the GLB scene of a result (``geometry``). Routes, the OpenAPI
-document, the SDK's method list and the docs all read this registry; nothing else lists
-methods.
+- the **id**, ``family.name``: the function's family package and its name;
+- the **title** and **description**: the docstring's short summary and the first paragraph of
+  its extended summary.
+
+A catalog entry adds only what is the service's own: an example of each required input,
+service caps on sizes (``limits``), the cost hints (``long``, ``fast_path``), the checks
+across inputs that refuse a request before it is queued (``check``: the algorithm's own
+``check_*`` function, called with the inputs its parameters name), JSON types for inputs
+whose kind has no general form (``inputs``), the GLB scene of a result (``geometry``), the
+inputs only that scene reads (``display``: :data:`DISPLAY_INPUTS`, never passed to the
+function) and search keywords. Routes, the OpenAPI document, the SDK's method list and the
+docs all read this registry; nothing else lists methods.
 """
 
 from __future__ import annotations
@@ -41,10 +46,17 @@ from pydantic import (
     model_validator,
 )
 
+from algorithms.core.errors import InvalidInputError
 from algorithms.core.params import Declaration, Kind, declarations
 from service.catalog.base import Params
-from service.catalog.inputs import KIND_TYPES
-from service.docstrings import numpydoc_entries, numpydoc_references, numpydoc_section, plain
+from service.catalog.inputs import KIND_TYPES, Labels
+from service.docstrings import (
+    numpydoc_entries,
+    numpydoc_references,
+    numpydoc_section,
+    numpydoc_summary,
+    plain,
+)
 
 __all__ = ["Process", "Output", "Registry", "registry", "input_description", "outputs_of",
            "build_inputs"]
@@ -184,11 +196,43 @@ def _model_name(process_id: str) -> str:
     return "".join(part.title() for part in re.split(r"[._]", process_id)) + "Inputs"
 
 
+def _points_of(params: BaseModel) -> tuple[str, int] | None:
+    """The input that holds one row per point (``points``, else a graph's nodes) and its
+    count, or None when neither is given."""
+    points = getattr(params, "points", None)
+    if points is not None:
+        return "points", len(points)
+    graph = getattr(params, "graph", None)
+    return ("graph", int(graph.n_nodes)) if graph is not None else None
+
+
+def _check_display_labels(params: BaseModel) -> None:
+    labels = getattr(params, "labels", None)
+    points = _points_of(params)
+    if labels is not None and points is not None and len(labels) != points[1]:
+        raise InvalidInputError(f"Expected `labels` to hold one label per point of "
+                                f"`{points[0]}` ({points[1]}), got {len(labels)}.",
+                                field="labels")
+
+
+#: The inputs a catalog entry may add for the display of its results (``Process.display``):
+#: name -> (JSON type, description, the check against the other inputs). The algorithm never
+#: sees them; the GLB scene (:mod:`service.scenes`) and the workbench read them from the
+#: job's inputs.
+DISPLAY_INPUTS: dict[str, tuple[Any, str, Callable[[BaseModel], None]]] = {
+    "labels": (Labels | None, "Optional class labels, one per point (integers or strings), "
+               "for the display only: the result's GLB and the workbench colour the points by "
+               "class (a clustering's clusters take the colour of the class they match best). "
+               "The method does not read them.", _check_display_labels),
+}
+
+
 def build_inputs(process_id: str, function: Callable[..., Any], *,
                  kinds: Mapping[Kind, Any], inputs: Mapping[str, Any],
                  examples: Mapping[str, Any], limits: Mapping[str, Any],
                  hidden: tuple[str, ...],
-                 check: Callable[[Any], None] | None) -> type[BaseModel]:
+                 check: Callable[..., Any] | None,
+                 display: tuple[str, ...] = ()) -> type[BaseModel]:
     """The pydantic model of a process's inputs, from its function's signature and
     docstring plus the entry's service additions."""
     decls = declarations(function)
@@ -219,18 +263,45 @@ def build_inputs(process_id: str, function: Callable[..., Any], *,
         kwargs.update(_limit_kwargs(name, limits[name]) if name in limits else {})
         default = ... if decl.required else decl.default
         fields[name] = (hint, Field(default, **kwargs))
+    for name in display:
+        if name in decls:
+            raise TypeError(f"{process_id}: display input {name!r} is a parameter")
+        hint, description, _ = DISPLAY_INPUTS[name]
+        fields[name] = (hint, Field(None, description=description))
     # pydantic annotates __validators__ as dict[str, Callable], but what it documents
     # there are decorated validators: descriptor proxies, which are not callable (its
     # successor __namespace__, a dict[str, Any], needs pydantic 2.14; we allow 2.6)
     validators: dict[str, Any] = {}
     if check is not None:
-        def _checked(self: BaseModel) -> BaseModel:
-            check(self)
-            return self
-        _checked.__doc__ = check.__doc__
-        validators["_check"] = model_validator(mode="after")(_checked)
+        taken = _check_inputs(process_id, check, fields)
+        validators["_check"] = _after(lambda p: check(**{n: getattr(p, n) for n in taken}),
+                                      check.__doc__)
+    for name in display:
+        validators[f"_display_{name}"] = _after(DISPLAY_INPUTS[name][2])
     return create_model(_model_name(process_id), __base__=Params,
                         __validators__=validators, **fields)
+
+
+def _after(check: Callable[[BaseModel], None], doc: str | None = None) -> Any:
+    """``check`` of the validated model as a pydantic after-validator."""
+    def _checked(self: BaseModel) -> BaseModel:
+        check(self)
+        return self
+    _checked.__doc__ = doc
+    return model_validator(mode="after")(_checked)
+
+
+def _check_inputs(process_id: str, check: Callable[..., Any], fields: Mapping[str, Any]
+                  ) -> list[str]:
+    """The inputs a check takes: those its parameters name (a parameter with a default and
+    no input of its name keeps its default, such as ``name="mesh"``)."""
+    params = inspect.signature(check).parameters
+    missing = [n for n, prm in params.items() if n not in fields
+               and prm.default is inspect.Parameter.empty
+               and prm.kind not in (prm.VAR_POSITIONAL, prm.VAR_KEYWORD)]
+    if missing:
+        raise TypeError(f"{process_id}: check {check.__name__} takes no input {missing}")
+    return [n for n in params if n in fields]
 
 
 def references_text(function: Callable[..., Any]) -> str | None:
@@ -243,17 +314,16 @@ def references_text(function: Callable[..., Any]) -> str | None:
 class Process:
     """One method of the catalog, offered as one OGC process.
 
-    Only ``id``, ``function``, ``title`` and ``description`` are required. ``params`` (the
-    pydantic model of the inputs: ``function(**params)`` runs it), ``result`` (the
-    dataclass the function returns), ``outputs``, ``kinds`` and ``reference`` are derived
-    from the function and cannot be given; see the module's docstring for what an entry
-    adds.
+    Only ``function`` is required. ``id``, ``title`` and ``description`` are derived from it
+    unless given (see the module's docstring); ``params`` (the pydantic model of the inputs:
+    ``function(**params)`` runs it), ``result`` (the dataclass the function returns),
+    ``outputs``, ``kinds`` and ``reference`` are derived and cannot be given.
     """
 
-    id: str
     function: Callable[..., Any]
-    title: str
-    description: str
+    id: str = ""
+    title: str = ""
+    description: str = ""
     examples: Mapping[str, Any] = field(default_factory=dict)
     """One example value per input (every required input has one): the process description
     shows it and the tests run the process on the examples."""
@@ -263,9 +333,10 @@ class Process:
     limits: Mapping[str, Any] = field(default_factory=dict)
     """Service caps beyond the signature's bounds, e.g. ``{"max_iterations": Le(10_000)}``:
     what a shared service refuses to run although the algorithm could."""
-    check: Callable[[Any], None] | None = None
-    """Checks across inputs run when a request is validated (the model is passed), so that
-    a request that must fail is refused with 422 before it is queued."""
+    check: Callable[..., Any] | None = None
+    """Checks across inputs run when a request is validated, so that a request that must
+    fail is refused with 422 before it is queued: a function (the algorithm's ``check_*``)
+    called with the inputs its parameters name."""
     hidden: tuple[str, ...] = ()
     """Parameters the service does not offer (local tuning, such as ``workers``)."""
     geometry: Scene | None = None
@@ -276,6 +347,9 @@ class Process:
     fast_path: bool = False
     """Small inputs may run in the service's own threads (closed forms that take milliseconds;
     see :mod:`service.jobs.engine`)."""
+    display: tuple[str, ...] = ()
+    """Inputs only the result's display reads (:data:`DISPLAY_INPUTS`), such as ``labels``
+    to colour an embedding by class; :meth:`run` does not pass them to the function."""
     time_limit: float | None = None
     """Upper bound of the job time limit for this process (the settings' default applies too)."""
     keywords: tuple[str, ...] = ()
@@ -291,9 +365,17 @@ class Process:
     takes_progress: bool = field(init=False)
 
     def __post_init__(self) -> None:
+        fn = inspect.unwrap(self.function)
+        title, description = numpydoc_summary(inspect.getdoc(fn))
+        family = fn.__module__.split(".")[-2 if "." in fn.__module__ else -1]
+        for name, derived in (("id", f"{family}.{fn.__name__}"),
+                              ("title", title.rstrip(".")), ("description", description)):
+            if not getattr(self, name):
+                object.__setattr__(self, name, derived)
         object.__setattr__(self, "params", build_inputs(
             self.id, self.function, kinds=KIND_TYPES, inputs=self.inputs,
-            examples=self.examples, limits=self.limits, hidden=self.hidden, check=self.check))
+            examples=self.examples, limits=self.limits, hidden=self.hidden, check=self.check,
+            display=self.display))
         hints = typing.get_type_hints(inspect.unwrap(self.function))
         object.__setattr__(self, "result", hints["return"])
         object.__setattr__(self, "outputs", outputs_of(self.result))
@@ -321,7 +403,8 @@ class Process:
             ) -> dict[str, Any]:
         """Call the algorithm and return its result as ``{output name: value}``."""
         extra = {"progress": progress} if self.takes_progress and progress is not None else {}
-        result = self.function(**kwargs, **extra)
+        args = {k: v for k, v in kwargs.items() if k not in self.display}
+        result = self.function(**args, **extra)
         return {name: getattr(result, name) for name in self.outputs}
 
 

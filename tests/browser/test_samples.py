@@ -79,7 +79,13 @@ def test_tsne_of_the_digits_sample(browser: Any, server: LiveServer, http: Any,
     job = run(browser, timeout=300)
     shot()
     sent = browser.execute_script("return window.workbench.state.sent.get(arguments[0])", job)
-    assert set(sent) == {"points"}  # the options left at their defaults
+    assert set(sent) == {"points", "labels"}  # the options left at their defaults
+    assert sent["labels"] == DIGITS["labels"]
+    # coloured by digit: the legend has the ten digits, each in its own colour
+    legend = browser.execute_script(
+        "return Array.from(window.workbench.viewer.legend().entries())")
+    assert sorted(label for label, _ in legend) == list(range(10))
+    assert len({colour for _, colour in legend}) == 10
     drawn = browser.execute_script("""
       let n = 0; window.workbench.viewer.root.traverse((o) => {
         if (o.isPoints) n += o.geometry.attributes.position.count; });

@@ -46,9 +46,14 @@ def test_each_method_has_the_algorithms_signature(process_id: str) -> None:
         method = _method(client, process_id)
         params = list(inspect.signature(method).parameters.values())
         inputs, options = params[:-4], params[-4:]
+        # the display inputs (labels to colour a result by) follow, keyword-only, None
+        display = inputs[len(inputs) - len(process.display):]
+        inputs = inputs[:len(inputs) - len(process.display)]
         assert [p.name for p in inputs] == [p.name for p in expected]
         assert [p.kind for p in inputs] == [p.kind for p in expected]
         assert [p.default for p in inputs] == [p.default for p in expected]
+        assert [(p.name, p.kind, p.default) for p in display] == [
+            (name, inspect.Parameter.KEYWORD_ONLY, None) for name in process.display]
         assert [p.name for p in options] == ["wait", "outputs", "idempotency_key", "time_limit"]
         assert all(p.kind is inspect.Parameter.KEYWORD_ONLY for p in options)
         assert inspect.iscoroutinefunction(method) == isinstance(client, AsyncClient)

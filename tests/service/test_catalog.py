@@ -20,6 +20,7 @@ from algorithms.core.params import Ge, declarations, validate_params
 from service import jsonio
 from service.catalog import lookup, processes, registry
 from service.catalog.registry import (
+    DISPLAY_INPUTS,
     Output,
     Process,
     Registry,
@@ -32,6 +33,7 @@ from service.docstrings import (
     numpydoc_entries,
     numpydoc_references,
     numpydoc_section,
+    numpydoc_summary,
     plain,
 )
 from service.problems import pydantic_errors
@@ -195,11 +197,17 @@ def _bound_keywords(schema: dict[str, Any]) -> dict[str, float]:
 @pytest.mark.parametrize("p", ALL, ids=_ids)
 def test_inputs_are_the_signature(p: Process) -> None:
     """Every parameter of the function is an input (but the hidden ones), with the
-    signature's default and the docstring's description, nothing else."""
+    signature's default and the docstring's description; the only other inputs are the
+    display inputs the entry names, optional, after them."""
     decls = declarations(p.function)
-    assert list(p.params.model_fields) == [n for n in decls if n not in p.hidden]
+    assert list(p.params.model_fields) == [n for n in decls if n not in p.hidden] + list(
+        p.display)
     docs = numpydoc_entries(inspect.getdoc(p.function), "Parameters")
     for name, f in p.params.model_fields.items():
+        if name in p.display:
+            assert not f.is_required() and f.default is None, (p.id, name)
+            assert f.description == DISPLAY_INPUTS[name][1], (p.id, name)
+            continue
         d = decls[name]
         assert f.is_required() == d.required, (p.id, name)
         if not d.required:
@@ -250,6 +258,104 @@ def test_entry_restates_nothing(p: Process) -> None:
         lo = schema.get("minimum", schema.get("exclusiveMinimum"))
         hi = schema.get("maximum", schema.get("exclusiveMaximum"))
         assert (lo, hi) not in declared, f"{p.id}: limits[{name!r}] restates the signature"
+
+
+def _given_texts() -> list[tuple[str, str, str]]:
+    """(process id, "title" or "description", text) for every text a catalog entry writes
+    itself: a ``title=``/``description=`` keyword in a call whose first argument names the
+    function."""
+    import ast
+    import importlib
+
+    from service.catalog import FAMILIES
+
+    out = []
+    for family in FAMILIES:
+        module = importlib.import_module(f"service.catalog.{family}")
+        for node in ast.walk(ast.parse(inspect.getsource(module))):
+            if not isinstance(node, ast.Call) or not node.args or \
+                    not isinstance(node.args[0], ast.Name):
+                continue
+            for kw in node.keywords:
+                if kw.arg in ("title", "description"):
+                    out.append((f"{family}.{node.args[0].id}", kw.arg,
+                                ast.literal_eval(kw.value)))
+    return out
+
+
+def test_entries_do_not_restate_the_docstring_summary() -> None:
+    """An entry writes a title or description only where the function's docstring does not
+    open with one (its short summary and the paragraph after it), never a copy of it."""
+    given = _given_texts()
+    assert {pid for pid, _, _ in given} == {"registration.icp", "registration.cpd"}
+    for pid, what, text in given:
+        title, description = numpydoc_summary(inspect.getdoc(registry[pid].function))
+        assert text == getattr(registry[pid], what)
+        assert text not in (title.rstrip("."), description), (pid, what)
+
+
+@pytest.mark.parametrize("p", list(registry.values()), ids=_ids)
+def test_title_and_description_are_the_docstring_summary(p: Process) -> None:
+    """The id is the family and the function's name; the title and description are the
+    docstring's short summary and the first paragraph after it (where the entry gives none),
+    a name and a paragraph, as a process description shows them."""
+    fn = inspect.unwrap(p.function)
+    assert p.id == f"{fn.__module__.split('.')[1]}.{fn.__name__}"
+    if p.id not in {pid for pid, _, _ in _given_texts()}:
+        title, description = numpydoc_summary(inspect.getdoc(fn))
+        assert (p.title, p.description) == (title.rstrip("."), description)
+    assert 0 < len(p.title) < 90 and not p.title.endswith(".") and "\n" not in p.title
+    assert len(p.description) > 60 and p.description.endswith(".") and "``" not in p.description
+
+
+def test_numpydoc_summary() -> None:
+    doc = """Rigid alignment (Kabsch).
+
+    The rotation :math:`R` that best maps ``source``
+    onto ``target``.
+
+    More about it.
+
+    Parameters
+    ----------
+    x : int
+    """
+    assert numpydoc_summary(doc) == ("Rigid alignment (Kabsch).",
+                                     "The rotation R that best maps `source` onto `target`.")
+    assert numpydoc_summary("Only a summary.\n\nParameters\n----------\nx : int\n") == \
+        ("Only a summary.", "")
+    assert numpydoc_summary(None) == ("", "")
+
+
+def test_check_takes_the_inputs_its_parameters_name() -> None:
+    """A check is called with the inputs its parameters name (a parameter with a default
+    and no such input keeps its default); one that names no input is refused at start."""
+    from service.catalog.registry import build_inputs
+
+    seen: list[tuple[int, str]] = []
+
+    def f(x: int = 1, y: int = 2) -> _HandResult:
+        """Parameters
+        ----------
+        x, y : int
+            Ex.
+        """
+        raise AssertionError
+
+    def check(y: int, name: str = "y") -> None:
+        seen.append((y, name))
+
+    model = build_inputs("test.f", f, kinds={}, inputs={}, examples={}, limits={}, hidden=(),
+                         check=check)
+    model.model_validate({"y": 5})
+    assert seen == [(5, "y")]
+
+    def bad(z: int) -> None:
+        raise AssertionError
+
+    with pytest.raises(TypeError, match=r"check bad takes no input \['z'\]"):
+        build_inputs("test.f", f, kinds={}, inputs={}, examples={}, limits={}, hidden=(),
+                     check=bad)
 
 
 @pytest.mark.parametrize("p", ALL, ids=_ids)

@@ -153,7 +153,7 @@ def test_every_deformation_method_is_listed(http) -> None:
     ("deformation_transfer", {"mesh": STRIP, "handles": {"indices": [0], "positions":
                                                          [[0, 0, 0]]},
                               "source": STRIP_V[:5], "source_deformed": STRIP_V},
-     "source", "shape of `mesh.vertices`"),
+     "source", "one row per vertex of `mesh` (6), got 5"),
     ("deformation_transfer", {"mesh": STRIP, "handles": {"indices": [0], "positions":
                                                          [[0, 0, 0]]},
                               "source": [[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0],

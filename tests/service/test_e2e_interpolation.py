@@ -107,7 +107,7 @@ def test_every_interpolation_method_is_listed(http) -> None:
     ("affine", {"source": SQUARE, "transform": QUARTER, "times": []}, "times", "at least 1"),
     ("arap", {"source": STRIP}, "target", "neither"),
     ("arap", {"source": STRIP_V, "target": BENT}, "source", "mesh"),
-    ("arap", {"source": STRIP, "target": BENT, "anchor": 10}, "anchor", "below 10"),
+    ("arap", {"source": STRIP, "target": BENT, "anchor": 10}, "anchor", "<= 9 (a vertex index of `source`)"),
     ("affine", {"source": SQUARE, "transform": [[1, 0], [0, 1]]}, "transform", "(3, 3)"),
     ("affine", {"source": SQUARE, "transform": [[-1, 0, 0], [0, 1, 0], [0, 0, 1]]},
      "transform", "reflection"),

@@ -59,10 +59,23 @@ def test_distance_source_errors(inputs, field, match) -> None:  # noqa: ANN001
 
 
 def test_distance_matrix_is_symmetrised_with_missing_entries() -> None:
-    d = as_distance_matrix([[0, 1, None], [3, 0, 2], [np.nan, None, 0]])
-    assert d[0, 1] == d[1, 0] == 2.0           # both known: their mean
+    d = as_distance_matrix([[0, 1, None], [1 + 1e-7, 0, 2], [np.nan, None, 0]])
+    assert d[0, 1] == d[1, 0] == pytest.approx(1 + 5e-8, rel=1e-12)  # agree to 1e-5: mean
     assert d[1, 2] == d[2, 1] == 2.0           # one known: that one
     assert np.isnan(d[0, 2]) and np.isnan(d[2, 0])
+
+
+def test_asymmetric_distances_are_refused() -> None:
+    """As scikit-learn's MDS (check_symmetric) and scipy's squareform refuse them: d[i, j]
+    and d[j, i] are one distance; two known values that differ are a contradiction."""
+    with pytest.raises(InvalidInputError, match=r"symmetric .* got 1.0 at row 0, column 1 "
+                       r"and 3.0 at row 1, column 0") as info:
+        as_distance_matrix([[0, 1, None], [3, 0, 2], [np.nan, None, 0]])
+    assert info.value.field == "distances"
+    with pytest.raises(InvalidInputError, match=r"one distance, got 4.0 at row 1 for the pair "
+                       r"\(1, 0\) given 2.0 at row 0") as info:
+        distance_pairs_matrix([[0, 1, 2.0], [1, 0, 4.0], [1, 2, 5.0]])
+    assert info.value.field == "distance_pairs"
     with pytest.raises(InvalidInputError, match="missing distances are not accepted"):
         as_distance_matrix([[0, np.nan], [np.nan, 0]], allow_missing=False)
 
@@ -79,8 +92,8 @@ def test_size_limits_below_the_dense_one() -> None:
         distance_pairs_matrix([[0, 4000, 1.0]], max_points=3)
 
 
-def test_pairs_matrix_takes_the_mean_of_repeated_pairs() -> None:
-    d = distance_pairs_matrix([[0, 1, 1.0], [1, 0, 3.0], [1, 2, 1.0]])
+def test_pairs_matrix_counts_a_repeated_pair_once() -> None:
+    d = distance_pairs_matrix([[0, 1, 2.0], [1, 0, 2.0], [1, 2, 1.0]])
     assert d.shape == (3, 3) and d[0, 1] == d[1, 0] == 2.0 and np.isnan(d[0, 2])
     with pytest.raises(DegenerateInputError, match="none for point 3") as info:
         distance_pairs_matrix([[0, 1, 1.0], [1, 2, 1.0]], 4)

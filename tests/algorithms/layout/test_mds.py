@@ -70,11 +70,19 @@ def test_points_are_recovered_up_to_rigid_motion(seed, k):
     assert res.normalized_stress < 1e-10
 
 
-def test_asymmetric_input_is_averaged():
+def test_asymmetric_input_is_refused():
+    """As scikit-learn's ClassicalMDS refuses it ("Array must be symmetric"); a matrix
+    symmetric to its tolerance (rtol 1e-5) is averaged."""
     x = np.random.default_rng(1).standard_normal((10, 2))
     d = cdist(x, x)
     noisy = d * (1 + 0.1 * np.triu(np.ones_like(d), 1) - 0.1 * np.tril(np.ones_like(d), -1))
-    np.testing.assert_allclose(mds(noisy).positions, mds(d).positions, atol=1e-12)
+    with pytest.raises(InvalidInputError, match="symmetric") as info:
+        mds(noisy)
+    assert info.value.field == "distances"
+    with pytest.raises(ValueError, match="symmetric"):
+        ClassicalMDS(n_components=2, metric="precomputed").fit(noisy)
+    close = d * (1 + 1e-7 * np.triu(np.ones_like(d), 1))
+    np.testing.assert_allclose(mds(close).positions, mds(d).positions, atol=1e-6)
 
 
 # --- layer 3: agreement with scikit-learn and numpy -----------------------------------------
@@ -149,8 +157,8 @@ def test_one_sided_entries_and_repeated_pairs():
     d = cdist(x, x)
     d[np.tril_indices(3, -1)] = np.nan       # only the upper triangle is given
     np.testing.assert_allclose(cdist(*[mds(d).positions] * 2), TRIANGLE, atol=1e-12)
-    # a pair listed twice takes the mean of its distances
-    pairs = [[0, 1, 2.0], [1, 0, 4.0], [1, 2, 5.0], [0, 2, 4.0]]
+    # a pair listed twice (either order) with one distance counts once
+    pairs = [[0, 1, 3.0], [1, 0, 3.0], [1, 2, 5.0], [0, 2, 4.0]]
     np.testing.assert_allclose(cdist(*[mds(distance_pairs=pairs).positions] * 2), TRIANGLE,
                                atol=1e-12)
 

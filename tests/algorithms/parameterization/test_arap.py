@@ -26,6 +26,19 @@ def test_arap_energy_never_increases_and_lowers_area_distortion(seed: int) -> No
     assert res.flipped_faces == 0
     lscm = conformal((v, f))
     assert res.area_distortion < lscm.area_distortion
+    assert res.iterations == 40  # tolerance 0: every iteration, as libigl runs them
+
+
+def test_tolerance_zero_runs_past_the_energy_s_plateau() -> None:
+    # 1000 iterations on a bumpy disk: the energy stops falling long before (the run with a
+    # tolerance stops there), tolerance 0 still runs them all (libigl's arap_solve)
+    v, f = bumpy(seed=0)
+    stopped = arap((v, f), max_iterations=1000, tolerance=1e-12)
+    everything = arap((v, f), max_iterations=1000, tolerance=0)
+    assert stopped.converged and stopped.iterations < 1000
+    assert everything.iterations == 1000
+    np.testing.assert_allclose(everything.energy[:len(stopped.energy)], stopped.energy,
+                               rtol=1e-12)
 
 
 def test_arap_keeps_a_planar_mesh() -> None:

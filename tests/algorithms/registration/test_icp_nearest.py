@@ -1,0 +1,116 @@
+"""ICP's nearest-point search keeps the previous partners it can prove unchanged: every
+answer must equal a plain query of the target's kd-tree (distances bit for bit, indices
+the tree's own, ties included), and the skipping must really happen."""
+
+from __future__ import annotations
+
+import importlib
+import warnings
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+from scipy.spatial.transform import Rotation
+
+icp_mod = importlib.import_module("algorithms.registration.icp")
+
+
+def _blob(n: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    u = rng.standard_normal((n, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    r = 1.0 + 0.3 * u[:, 0] + 0.15 * u[:, 1] * u[:, 2] + 0.1 * u[:, 2] ** 3
+    return u * r[:, None] * [1.3, 1.0, 0.8]
+
+
+class _Checked:
+    """A stand-in for the target's tree that records the query sizes."""
+
+    def __init__(self, tree: cKDTree) -> None:
+        self.tree, self.sizes = tree, []
+
+    def query(self, x, **kw):
+        self.sizes.append(len(x))
+        return self.tree.query(x, **kw)
+
+
+def _run(monkeypatch, src, dst, **kw):
+    """Run ICP, comparing every answer of ``nearest`` with a plain query of the tree."""
+    calls = []
+    original = icp_mod._Problem.nearest
+
+    def checked(self, moved, transform):
+        if not isinstance(self.tree, _Checked):
+            self.tree = _Checked(self.tree)
+        dist, idx = original(self, moved, transform)
+        bound = np.inf if self.max_dist is None else self.max_dist * (1 + 1e-9)
+        ref_d, ref_i = self.tree.tree.query(moved, distance_upper_bound=bound)
+        np.testing.assert_array_equal(dist, ref_d)
+        np.testing.assert_array_equal(idx, ref_i)
+        calls.append(len(self.tree.sizes))
+        return dist, idx
+
+    monkeypatch.setattr(icp_mod._Problem, "nearest", checked)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        icp_mod.icp(src, dst, **kw)
+    return calls
+
+
+def _queried_fewer(monkeypatch, src, dst, **kw):
+    sizes = []
+    original = icp_mod._Problem.nearest
+
+    def spy(self, moved, transform):
+        if not isinstance(self.tree, _Checked):
+            self.tree = _Checked(self.tree)
+        out = original(self, moved, transform)
+        sizes[:] = self.tree.sizes
+        return out
+
+    monkeypatch.setattr(icp_mod._Problem, "nearest", spy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        icp_mod.icp(src, dst, **kw)
+    return min(sizes) < len(src)
+
+
+ROT = Rotation.from_rotvec([0.05, 0.1, -0.08]).as_matrix()
+
+
+@pytest.mark.parametrize("metric", ["point_to_point", "point_to_plane", "symmetric"])
+@pytest.mark.parametrize("max_dist", [None, 0.15])
+def test_answers_equal_a_plain_query(monkeypatch, metric, max_dist):
+    rng = np.random.default_rng(3)
+    src = _blob(3000, 1)
+    dst = _blob(2500, 2) @ ROT.T + [0.03, -0.02, 0.01] + rng.normal(0, 0.002, (2500, 3))
+    calls = _run(monkeypatch, src, dst, metric=metric, max_correspondence_distance=max_dist,
+                 max_iterations=25, tolerance=0.0)
+    assert len(calls) >= 2
+
+
+def test_partial_overlap_and_far_coordinates(monkeypatch):
+    # half the source has no partner within the bound; coordinates far from the origin
+    rng = np.random.default_rng(4)
+    src = _blob(2000, 3) + 1e5
+    dst = (_blob(2000, 4) @ ROT.T)[:1000] + 1e5 + rng.normal(0, 0.001, (1000, 3))
+    _run(monkeypatch, src, dst, metric="point_to_plane", max_correspondence_distance=0.1,
+         max_iterations=20, tolerance=0.0)
+
+
+def test_ties_on_a_lattice_are_the_trees_own_choice(monkeypatch):
+    # a grid against the same grid shifted by half a cell along x: every source point is
+    # equidistant from two target points
+    g = np.arange(12, dtype=float)
+    x, y, z = np.meshgrid(g, g, g[:6], indexing="ij")
+    dst = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    src = dst + [0.5, 0.0, 0.0]
+    _run(monkeypatch, src, dst, max_iterations=5, tolerance=0.0)
+
+
+def test_partners_are_kept_once_the_steps_are_small(monkeypatch):
+    rng = np.random.default_rng(5)
+    src = _blob(3000, 1)
+    dst = _blob(3000, 2) @ ROT.T + rng.normal(0, 0.002, (3000, 3))
+    assert _queried_fewer(monkeypatch, src, dst, metric="point_to_plane", max_iterations=30,
+                          tolerance=0.0)
