@@ -3244,12 +3244,9 @@ class Embedding(_Family):
         weighting : {"uniform", "distance", "heat"}, default "uniform"
             Edge weights from the edge lengths :math:`d`: ``"uniform"`` 1, ``"distance"``
             :math:`1/d`, ``"heat"`` the heat kernel :math:`\exp(-d^2/2\sigma^2)`.
-            Every edge of the symmetrised graph (``i`` among ``j``'s neighbours or ``j`` among
-            ``i``'s) weighs the same: scikit-learn's ``SpectralEmbedding`` gives an edge found
-            from one side only half the weight (``(A + Aᵀ)/2``), which moves the embedding
-            slightly (a Procrustes disparity of 3.7e-3 on a 400-point swiss roll, k = 10;
-            ``affinity="precomputed"`` on our graph agrees to 1e-28). Weight 1 keeps the graph
-            the same whichever side found an edge, as spectral clustering here does.
+            Every edge of the symmetrised graph weighs the same, whichever side found it (not
+            half for one side, as scikit-learn's ``SpectralEmbedding``; see
+            :func:`~algorithms.embedding.laplacian_eigenmaps`).
         sigma : float, optional
             The heat kernel's width :math:`\sigma`; the mean edge length when omitted.
         laplacian : {"random_walk", "symmetric", "unnormalized"}, default "random_walk"
@@ -8957,12 +8954,9 @@ class AsyncEmbedding(_AsyncFamily):
         weighting : {"uniform", "distance", "heat"}, default "uniform"
             Edge weights from the edge lengths :math:`d`: ``"uniform"`` 1, ``"distance"``
             :math:`1/d`, ``"heat"`` the heat kernel :math:`\exp(-d^2/2\sigma^2)`.
-            Every edge of the symmetrised graph (``i`` among ``j``'s neighbours or ``j`` among
-            ``i``'s) weighs the same: scikit-learn's ``SpectralEmbedding`` gives an edge found
-            from one side only half the weight (``(A + Aᵀ)/2``), which moves the embedding
-            slightly (a Procrustes disparity of 3.7e-3 on a 400-point swiss roll, k = 10;
-            ``affinity="precomputed"`` on our graph agrees to 1e-28). Weight 1 keeps the graph
-            the same whichever side found an edge, as spectral clustering here does.
+            Every edge of the symmetrised graph weighs the same, whichever side found it (not
+            half for one side, as scikit-learn's ``SpectralEmbedding``; see
+            :func:`~algorithms.embedding.laplacian_eigenmaps`).
         sigma : float, optional
             The heat kernel's width :math:`\sigma`; the mean edge length when omitted.
         laplacian : {"random_walk", "symmetric", "unnormalized"}, default "random_walk"

@@ -32,12 +32,10 @@ seconds without cooperating gets its worker restarted.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
-import signal
 import threading
 import time
-from collections.abc import Awaitable, Callable, Iterator
+from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -47,7 +45,7 @@ from distributed.client import Future, FutureCancelledError
 from distributed.scheduler import KilledWorker
 from distributed.security import Security
 
-from service.jobs.fastpool import FastPool
+from service.jobs.fastpool import FastPool, children_ignore_sigint
 from service.jobs.runner import TOPIC, cancel_event_name, run_job
 from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobStore
@@ -61,22 +59,6 @@ log = logging.getLogger("morphserve.engine")
 GRACE = 2.0
 """Seconds past its time limit after which a job that ignores its cancel event is stopped
 by restarting its worker."""
-
-
-@contextlib.contextmanager
-def _children_ignore_sigint() -> Iterator[None]:
-    """Ignore SIGINT while the embedded cluster's worker processes are spawned, so that they
-    inherit the ignoring: a Ctrl-C in the terminal reaches the whole process group, and the
-    service (which closes the cluster as it shuts down) should be the only one to act on
-    it, not each worker with a traceback of its own. Only the main thread may do so."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
 
 
 class WarmUp(WorkerPlugin):
@@ -164,7 +146,7 @@ class Engine:
             if dashboard is None:
                 dask.config.set({"distributed.scheduler.http.routes": [],
                                  "distributed.worker.http.routes": []})
-            with _children_ignore_sigint():
+            with children_ignore_sigint():
                 self.cluster = await LocalCluster(
                     n_workers=self.settings.workers, threads_per_worker=1, processes=True,
                     asynchronous=True, dashboard_address=dashboard, scheduler_port=0,

@@ -26,11 +26,14 @@ Progress events of a running job come back over the worker's pipe and are handed
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import multiprocessing
+import multiprocessing.forkserver
+import signal
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from multiprocessing.connection import Connection
 from typing import Any
@@ -76,6 +79,23 @@ class _Worker:
         self.conn.close()
 
 
+@contextlib.contextmanager
+def children_ignore_sigint() -> Iterator[None]:
+    """Ignore SIGINT while worker processes are started (the embedded cluster's, the fast
+    path's forkserver), so that they inherit the ignoring: a Ctrl-C in the terminal reaches
+    the whole process group, and the service (which closes them as it shuts down) should be
+    the only one to act on it, not each child with a traceback of its own (a forkserver
+    interrupted while it imports its preload prints one). Only the main thread may do so."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 class FastPool:
     """``size`` worker processes for fast-path jobs; see the module's docstring."""
 
@@ -108,6 +128,8 @@ class FastPool:
             return
         self._loop = asyncio.get_running_loop()
         self._idle = asyncio.Queue()
+        with children_ignore_sigint():  # the forkserver, and so its forks, ignore Ctrl-C
+            multiprocessing.forkserver.ensure_running()
         for _ in range(self.size):
             self._spawn()
 

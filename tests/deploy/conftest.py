@@ -18,6 +18,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -182,6 +183,18 @@ class Stack:
                 parts.append(f"--- {name}\n{log.stdout}{log.stderr}")
         return "\n".join(parts)
 
+    @contextmanager
+    def running(self) -> Iterator[float]:
+        """The stack up (yields the seconds it took to be ready), its logs printed when what
+        runs inside fails, and destroyed after, whatever happened."""
+        try:
+            yield self.up()
+        except BaseException:
+            print(self.logs(), file=sys.stderr)
+            raise
+        finally:
+            self.destroy()
+
     def destroy(self) -> None:
         """Everything of the project, whatever state a failed test left: containers, pod,
         network and volumes."""
@@ -202,14 +215,9 @@ class Stack:
 @pytest.fixture(scope="session")
 def stack(image: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Stack]:
     stack = Stack(tmp_path_factory.mktemp("stack"), image)
-    try:
-        FIGURES["stack up to ready with 2 workers (s)"] = round(stack.up(), 1)
+    with stack.running() as seconds:
+        FIGURES["stack up to ready with 2 workers (s)"] = round(seconds, 1)
         yield stack
-    except BaseException:
-        print(stack.logs(), file=sys.stderr)
-        raise
-    finally:
-        stack.destroy()
 
 
 def pytest_terminal_summary(terminalreporter: Any) -> None:

@@ -50,14 +50,8 @@ def keys_stack(image: str, keys: tuple[Path, dict[str, str]],
                tmp_path_factory: pytest.TempPathFactory) -> Iterator[Stack]:
     stack = Stack(tmp_path_factory.mktemp("keys-stack"), image, name="-keys",
                   extra_files=(KEYS_OVERRIDE,), env={"MORPHSERVE_KEYS_FILE": str(keys[0])})
-    try:
-        stack.up()  # wait_ready polls /readyz without a key: the probe is open
+    with stack.running():  # wait_ready polls /readyz without a key: the probe is open
         yield stack
-    except BaseException:
-        print(stack.logs(), file=sys.stderr)
-        raise
-    finally:
-        stack.destroy()
 
 
 def assert_unauthorized(response: httpx.Response) -> None:

@@ -51,11 +51,8 @@ def tls_stack(image: str, tls_dirs: tuple[Path, Path],
               tmp_path_factory: pytest.TempPathFactory) -> Iterator[Stack]:
     stack = Stack(tmp_path_factory.mktemp("tls-stack"), image, name="-tls",
                   extra_files=(TLS_OVERRIDE,), env={"MORPHSERVE_TLS_DIR": str(tls_dirs[0])})
-    try:
-        stack.up()
+    with stack.running():
         yield stack
-    finally:
-        stack.destroy()
 
 
 CONNECT = """

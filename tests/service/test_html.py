@@ -267,10 +267,11 @@ def test_process_list_search(http):
 
 def _defaults(process) -> dict[str, Any]:
     """The declared defaults of a process's service inputs, read from its function's
-    signature (the one place they are declared)."""
+    signature (the one place they are declared); the display inputs have none."""
     sig = inspect.signature(process.function)
     return {name: sig.parameters[name].default for name in process.params.model_fields
-            if sig.parameters[name].default is not inspect.Parameter.empty}
+            if name not in process.display
+            and sig.parameters[name].default is not inspect.Parameter.empty}
 
 
 @pytest.mark.e2e
