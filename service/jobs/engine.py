@@ -484,9 +484,7 @@ class Engine:
                 if handle.future is not None:
                     await self._signal_cancel(handle.job.id)
                     await self._restart_worker_of(handle.job.id)
-                await self._record(handle, Outcome.failed(problem_body(
-                    "time-limit-exceeded",
-                    f"The job was stopped: time limit of {limit:g} s exceeded.")))
+                await self._record(handle, Outcome.time_limit_exceeded(limit))
                 if handle.future is not None:
                     await handle.future.cancel()
 

@@ -40,7 +40,6 @@ from typing import Any
 
 from service.jobs.runner import serve_fast
 from service.jobs.status import Outcome
-from service.problems import problem_body
 
 __all__ = ["FastPool", "POLL_INTERVAL"]
 
@@ -202,9 +201,8 @@ class FastPool:
         if end == "stopped":
             return Outcome.dismissed()
         if end == "time-limit":
-            return Outcome.failed(problem_body(
-                "time-limit-exceeded",
-                f"The job was stopped: time limit of {time_limit:g} s exceeded."))
+            assert time_limit is not None  # only a job with a limit runs out of it
+            return Outcome.time_limit_exceeded(time_limit)
         log.info("fast-path job %s %s; handing it to the workers", job_id,
                  "ran past the fast path's budget" if end == "overran" else "lost its worker")
         return None

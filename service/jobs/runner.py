@@ -160,10 +160,10 @@ def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, *,
             write_atomic(result_path(Path(data_dir), job_id),
                          pickle.dumps(outputs, protocol=5), fsync=fsync)
         return Outcome.successful(outputs)
-    except Cancelled as exc:
+    except Cancelled:
         if reporter.reason == "time-limit":
-            return Outcome.failed(problem_body(
-                "time-limit-exceeded", f"The job was stopped: {exc.message}."))
+            assert reporter.time_limit is not None  # only a limit runs out
+            return Outcome.time_limit_exceeded(reporter.time_limit)
         return Outcome.dismissed()
     except GeometryError as exc:
         return Outcome.failed(geometry_error_problem(exc))

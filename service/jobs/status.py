@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any
 
-from service.problems import dismissed_problem
+from service.problems import dismissed_problem, problem_body
 
 __all__ = ["JobStatus", "ACTIVE", "FINISHED", "Outcome"]
 
@@ -78,6 +78,12 @@ class Outcome:
     @classmethod
     def dismissed(cls) -> Outcome:
         return cls(JobStatus.DISMISSED, problem=dismissed_problem())
+
+    @classmethod
+    def time_limit_exceeded(cls, limit: float) -> Outcome:
+        """The outcome of a job stopped for running longer than ``limit`` seconds."""
+        return cls.failed(problem_body(
+            "time-limit-exceeded", f"The job was stopped: time limit of {limit:g} s exceeded."))
 
     @property
     def message(self) -> str:

@@ -8,11 +8,11 @@ import warnings
 
 import numpy as np
 import pytest
-import threadpoolctl
 from threadpoolctl import ThreadpoolController, threadpool_info
 
-from algorithms.core.threads import (
+from algorithms.core.threads import (  # _release: threadpoolctl 3.8 keeps control per thread
     SERIAL_BELOW,
+    _release,
     query_workers,
     single_blas_thread,
     usable_cores,
@@ -33,14 +33,6 @@ _SETTABLE: set[str] = set()
 def blas_threads() -> set[int]:
     """The thread counts of the BLAS libraries loaded whose count can be set."""
     return {lib["num_threads"] for lib in _blas() if lib["filepath"] in _SETTABLE}
-
-
-def _release() -> None:
-    # threadpoolctl 3.8 lets the thread that last set OpenBLAS's limits keep control
-    clear = getattr(getattr(threadpoolctl, "OpenBLASController", None),
-                    "clear_controlling_thread", None)
-    if clear is not None:
-        clear()
 
 
 @pytest.fixture
