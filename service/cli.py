@@ -351,11 +351,21 @@ def _keys(args: argparse.Namespace) -> int:
 
 
 def _write_private(path: Path, text: str) -> None:
-    """Replace ``path`` atomically with ``text``, readable by its owner only."""
+    """Replace ``path`` atomically with ``text``.
+
+    A new file is readable by its owner only; a file that exists keeps its permission bits
+    (a keys file made readable for a container's user stays so after ``keys add|revoke``,
+    as ``sed -i`` or an editor would keep it).
+    """
     tmp = path.with_name(path.name + ".tmp")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            mode = path.stat().st_mode & 0o777
+        except FileNotFoundError:
+            mode = 0o600
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        os.fchmod(fd, mode)  # exactly this mode, whatever the umask
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             f.write(text)
         os.replace(tmp, path)

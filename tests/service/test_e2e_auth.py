@@ -67,6 +67,18 @@ def test_the_keys_file_holds_hashes_only_and_is_private(keyed) -> None:
     assert bad.returncode == 2 and "letters, digits" in bad.stderr
 
 
+def test_adding_and_revoking_keep_the_mode_of_a_keys_file_that_exists(tmp_path: Path) -> None:
+    file = tmp_path / "keys"
+    add_key("alice", file)
+    assert stat.S_IMODE(file.stat().st_mode) == 0o600  # a new file: owner only
+    file.chmod(0o644)  # made readable for a container's user, as the README says
+    add_key("bob", file)
+    assert stat.S_IMODE(file.stat().st_mode) == 0o644
+    assert keys("revoke", "alice", file=file).returncode == 0
+    assert stat.S_IMODE(file.stat().st_mode) == 0o644
+    assert keys("list", file=file).stdout.split() == ["bob"]
+
+
 @pytest.mark.parametrize("path", ["/", "/conformance", "/processes", "/jobs",
                                   "/processes/alignment.rigid"])
 def test_every_route_but_health_and_static_pages_needs_a_key(keyed, path: str) -> None:
