@@ -7,10 +7,11 @@ One :func:`get_settings` dependency serves the routes; tests build their own
 from __future__ import annotations
 
 from functools import lru_cache
+from ipaddress import IPv4Network, IPv6Network, ip_network
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import Field
+from pydantic import Field, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from service.binary import MAX_DEPTH
@@ -141,6 +142,15 @@ class Settings(BaseSettings):
         "X-Forwarded-Host and X-Forwarded-Prefix headers), and callbacks carry links "
         "relative to the service's root.",
     )
+    forwarded_allow_ips: str = Field(
+        "127.0.0.1,::1",
+        description="The clients whose X-Forwarded-Proto, X-Forwarded-Host and "
+        "X-Forwarded-Prefix headers are believed when links are built: comma-separated IP "
+        "addresses or networks (10.0.0.0/8), or * for any (uvicorn's and gunicorn's "
+        "forwarded_allow_ips, with their default). Anyone else's are ignored, so a client "
+        "cannot make the service answer links to a host of its choosing; set it to the "
+        "address of the proxy in front of the service, or set public_url.",
+    )
     fast_path_cost: float = Field(
         2e6,
         ge=0,
@@ -176,6 +186,23 @@ class Settings(BaseSettings):
         20.0, gt=0, description="Seconds a request body may go without a byte arriving while "
         "the service waits for it (408, and the connection closed, above)."
     )
+
+    @field_validator("forwarded_allow_ips")
+    @classmethod
+    def _networks(cls, value: str) -> str:
+        forwarded_networks(value)  # raises ValueError naming the entry that is no address
+        return value
+
+
+def forwarded_networks(value: str) -> tuple[IPv4Network | IPv6Network, ...] | None:
+    """The networks of a ``forwarded_allow_ips`` value; None for ``*`` (any client)."""
+    items = [item.strip() for item in value.split(",") if item.strip()]
+    if "*" in items:
+        return None
+    try:
+        return tuple(ip_network(item, strict=False) for item in items)
+    except ValueError as error:
+        raise ValueError(f"forwarded_allow_ips: {error}") from None
 
 
 @lru_cache

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from difflib import SequenceMatcher
+from functools import lru_cache
+from ipaddress import IPv4Network, IPv6Network, ip_address
 from typing import Annotated, Any, Literal
 from urllib.parse import quote
 
@@ -29,7 +31,7 @@ from service.jobs.store import JobRecord, JobStore
 from service.jsonio import JSONResponse
 from service.metrics import Metrics
 from service.representation import results_document, status_info
-from service.settings import Settings
+from service.settings import Settings, forwarded_networks
 
 __all__ = ["State", "state", "owner", "get_process", "read_body", "parse_prefer", "job_response",
            "get_job", "Wanted", "results_response", "base_url", "PageFormat", "with_html"]
@@ -49,9 +51,28 @@ def state(request: Request) -> State:
     return st
 
 
+@lru_cache(maxsize=8)
+def _trusted_networks(value: str) -> tuple[IPv4Network | IPv6Network, ...] | None:
+    return forwarded_networks(value)
+
+
+def _from_a_trusted_proxy(request: Request) -> bool:
+    """Whether the peer that sent ``request`` is in ``forwarded_allow_ips``."""
+    networks = _trusted_networks(state(request).settings.forwarded_allow_ips)
+    if networks is None:
+        return True
+    try:
+        peer = ip_address(request.client.host if request.client else "")
+    except ValueError:  # no peer address (a Unix socket, a test client)
+        return False
+    return any(peer in net for net in networks)
+
+
 def _forwarded(request: Request, name: str) -> str | None:
     """The first value of an ``X-Forwarded-*`` header (a chain of proxies lists several,
-    the client's first)."""
+    the client's first), if a trusted proxy sent it."""
+    if not _from_a_trusted_proxy(request):
+        return None
     value = request.headers.get(name)
     first = value.split(",", 1)[0].strip() if value else ""
     return first or None
@@ -61,7 +82,8 @@ def base_url(request: Request) -> str:
     """The service's root URL as the client reached it, without a final slash: the setting
     ``public_url`` when set, else the request's scheme and host, replaced by the
     ``X-Forwarded-Proto``/``X-Forwarded-Host`` a proxy sets, followed by its
-    ``X-Forwarded-Prefix`` (a service mounted at ``/morphserve`` behind the proxy).
+    ``X-Forwarded-Prefix`` (a service mounted at ``/morphserve`` behind the proxy); those
+    headers count only from the clients of ``forwarded_allow_ips``.
     Every link and ``Location`` the service answers starts with it."""
     public: str | None = state(request).settings.public_url
     if public:

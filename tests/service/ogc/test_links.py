@@ -38,14 +38,15 @@ from tests.service.ogc.standard import (
 
 
 def _request(headers: dict[str, str], public_url: str | None = None,
-             host: str = "127.0.0.1:8000") -> Request:
-    settings = Settings(public_url=public_url)
+             host: str = "127.0.0.1:8000", client: str = "127.0.0.1",
+             allow: str = "127.0.0.1,::1") -> Request:
+    settings = Settings(public_url=public_url, forwarded_allow_ips=allow)
     app = SimpleNamespace(state=SimpleNamespace(morphserve=SimpleNamespace(settings=settings)))
     raw = [(b"host", host.encode())] + [(k.lower().encode(), v.encode())
                                         for k, v in headers.items()]
     return Request({"type": "http", "method": "GET", "path": "/jobs", "headers": raw,
                     "scheme": "http", "server": ("127.0.0.1", 8000), "query_string": b"",
-                    "app": app})
+                    "client": (client, 50000), "app": app})
 
 
 @pytest.mark.parametrize(("headers", "public", "expected"), [
@@ -66,6 +67,31 @@ def test_base_url(headers: dict[str, str], public: str | None, expected: str) ->
     """The root URL that links start with: the setting, else the request's, as a proxy's
     X-Forwarded-Proto/Host/Prefix rewrite it (the first of a chain of proxies)."""
     assert base_url(_request(headers, public)) == expected
+
+
+PROXIED = {"X-Forwarded-Proto": "https", "X-Forwarded-Host": "geo.example.org",
+           "X-Forwarded-Prefix": "/m"}
+
+
+@pytest.mark.parametrize(("client", "allow", "expected"), [
+    ("127.0.0.1", "127.0.0.1,::1", "https://geo.example.org/m"),  # the default: a local proxy
+    ("::1", "127.0.0.1,::1", "https://geo.example.org/m"),
+    ("203.0.113.9", "127.0.0.1,::1", "http://127.0.0.1:8000"),  # anyone else: not believed
+    ("10.1.2.3", "10.0.0.0/8", "https://geo.example.org/m"),  # the proxies' network
+    ("10.1.2.3", "10.1.2.4", "http://127.0.0.1:8000"),
+    ("203.0.113.9", "*", "https://geo.example.org/m"),
+    ("testclient", "127.0.0.1", "http://127.0.0.1:8000"),  # a peer with no IP address
+])
+def test_forwarded_headers_count_only_from_the_allowed_proxies(
+        client: str, allow: str, expected: str) -> None:
+    """A client that is not one of ``forwarded_allow_ips`` cannot choose the host that links
+    and Location headers name (uvicorn's rule, with its default)."""
+    assert base_url(_request(PROXIED, client=client, allow=allow)) == expected
+
+
+def test_forwarded_allow_ips_setting_is_checked() -> None:
+    with pytest.raises(ValueError, match="forwarded_allow_ips.*proxy.example"):
+        Settings(forwarded_allow_ips="127.0.0.1, proxy.example")
 
 
 def test_public_url_setting_is_checked() -> None:
