@@ -207,7 +207,7 @@ class APIError(MorphserveError):
         """Seconds to wait before retrying, from the ``Retry-After`` header (None: not said)."""
         if self.response is None:
             return None
-        return _retry_after(self.response.headers.get("Retry-After"))
+        return retry_after_seconds(self.response.headers.get("Retry-After"))
 
     def __reduce__(self) -> tuple[Any, ...]:
         # Picklable (Dask, multiprocessing); the response does not travel.
@@ -388,7 +388,7 @@ class InsufficientStorage(APIError):
         return value if isinstance(value, int) else None
 
 
-def _retry_after(value: str | None) -> float | None:
+def retry_after_seconds(value: str | None) -> float | None:
     """``Retry-After`` as seconds: delay-seconds or an HTTP-date (RFC 9110, 10.2.3)."""
     if value is None:
         return None

@@ -27,6 +27,7 @@ from urllib.parse import urlsplit
 
 import httpx
 
+from morphserve._exceptions import retry_after_seconds
 from service.errors import ServiceError
 from service.jobs.store import Subscriber
 from service.jsonio import dumps
@@ -143,7 +144,8 @@ class Notifier:
     backoff : float
         Seconds before the second attempt; each further one waits twice as long, at most
         ``max_backoff``, each wait drawn between half and all of that (jitter), or as long
-        as the subscriber's ``Retry-After`` asks, within the same bound.
+        as the subscriber's ``Retry-After`` asks (seconds or an HTTP-date), within the same
+        bound.
     max_backoff : float
         Longest wait between two attempts, in seconds.
     deliveries : Deliveries
@@ -206,9 +208,7 @@ class Notifier:
                         received += len(chunk)
                         if received >= MAX_RESPONSE_BYTES:
                             break  # the rest is never read: the connection is closed
-                    retry_after = r.headers.get("Retry-After", "")
-                    return r.status_code, (float(retry_after) if retry_after.isdigit()
-                                           else None)
+                    return r.status_code, retry_after_seconds(r.headers.get("Retry-After"))
         except (httpx.HTTPError, httpx.InvalidURL, TimeoutError, OSError) as exc:
             log.info("callback to %s: %s", uri, type(exc).__name__)
             return None, None

@@ -12,6 +12,8 @@ import socket
 import threading
 import time
 from collections.abc import Callable, Iterator
+from datetime import UTC, datetime, timedelta
+from email.utils import format_datetime
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
 import httpx
@@ -227,3 +229,43 @@ def test_a_subscriber_that_never_answers_costs_bounded_attempts() -> None:
             conn.close()
     assert len(accepted) == 3
     assert (counts.delivered, counts.failed, counts.retries) == (0, 1, 2)
+
+
+@pytest.mark.parametrize(("retry_after", "low", "high"), [
+    ("40", 40.0, 40.0),  # delay-seconds
+    (None, 0.005, 0.01),  # not said: the backoff, with its jitter
+    # an HTTP-date (RFC 9110, 10.2.3) 60 s from now: waited until then (1 s resolution)
+    ("in 60 s", 58.0, 60.0),
+])
+def test_retry_after_is_read_as_seconds_or_an_http_date(
+        monkeypatch: pytest.MonkeyPatch, retry_after: str | None, low: float,
+        high: float) -> None:
+    """The wait before a retry is what the subscriber's ``Retry-After`` asks, in either of
+    the standard's forms (within ``max_backoff``)."""
+    if retry_after == "in 60 s":
+        retry_after = format_datetime(datetime.now(UTC) + timedelta(seconds=60), usegmt=True)
+    answers = iter([503, 200])
+
+    def answer(request: httpx.Request) -> httpx.Response:
+        status = next(answers)
+        headers = {"Retry-After": retry_after} if status == 503 and retry_after else {}
+        return httpx.Response(status, headers=headers, stream=httpx.ByteStream(b"ok"))
+
+    waits: list[float] = []
+
+    async def sleep(seconds: float) -> None:
+        waits.append(seconds)
+
+    monkeypatch.setattr("service.callbacks.asyncio.sleep", sleep)
+    counts = Deliveries()
+    notifier = Notifier(attempts=2, backoff=0.01, max_backoff=300, deliveries=counts)
+
+    async def run() -> None:
+        notifier._client = httpx.AsyncClient(transport=httpx.MockTransport(answer))
+        notifier.send("http://subscriber.example/done", {"a": 1})
+        await asyncio.wait_for(asyncio.gather(*notifier._tasks), 20)
+        await notifier.close()
+
+    asyncio.run(run())
+    assert (counts.delivered, counts.retries) == (1, 1)
+    assert len(waits) == 1 and low <= waits[0] <= high, waits
