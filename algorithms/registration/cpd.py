@@ -18,8 +18,7 @@ from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.linalg import procrustes
 from algorithms.core.params import Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.threads import query_workers, single_blas_thread
-from algorithms.core.threads import usable_cores as _cores
+from algorithms.core.threads import block_workers, query_workers, single_blas_thread
 from algorithms.core.types import FloatArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 
@@ -59,9 +58,9 @@ _TRUNCATED_BLOCK = 32
 _DENSE_FRACTION = 0.5
 _TRUNCATE_ABOVE = 256
 #: The blocks of an E-step are dealt to this many fixed partitions, summed by up to as many
-#: threads (numpy's exp and BLAS release the GIL) when there are more pairs than this.
+#: threads (numpy's exp and BLAS release the GIL) when the blocks are large enough for that
+#: to pay (:func:`~algorithms.core.threads.block_workers`).
 _PARTS = 4
-_THREADS_ABOVE = 1 << 18
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,7 +151,6 @@ class _Posterior:
         # a fixed order: the result does not depend on the number of threads).
         self.rows = max(1, min(_block_rows(m, chunk_bytes) // _PARTS, -(-n // _PARTS)))
         self.bufs = [np.empty(self.rows * m) for _ in range(_PARTS)]
-        self.workers = 1 if n * m < _THREADS_ABOVE else min(_PARTS, _cores())
         # Blocks for the truncated sums: compact groups of target points, with their balls.
         self.order, self.blocks = _spatial_blocks(x, max(1, min(self.rows, _TRUNCATED_BLOCK)))
         self.x = np.ascontiguousarray(x[self.order])
@@ -163,19 +161,22 @@ class _Posterior:
         centre = self.x.mean(axis=0)
         self.extent = 2.0 * float(np.sqrt(np.max(np.sum((self.x - centre) ** 2, axis=1))))
 
-    def _mode(self, ty: FloatArray, sigma2: float) -> tuple[Any, Any]:
-        """``(tree, radii)`` of the moved source and the blocks' reach when the truncated
-        sums pay, else ``(None, None)`` (all pairs)."""
+    def _mode(self, ty: FloatArray, sigma2: float) -> tuple[Any, Any, int]:
+        """``(tree, radii, workers)``: the kd-tree of the moved source and the blocks'
+        reach when the truncated sums pay, else ``(None, None, ...)`` (all pairs), and the
+        threads that pay for this E-step (:func:`~algorithms.core.threads.block_workers`)."""
         m = ty.shape[0]
+        n = self.x.shape[0]
         reach = math.sqrt(2.0 * sigma2 * (math.log(m) + _TRUNCATE))
         if len(self.blocks) < 2 or m < _TRUNCATE_ABOVE or reach >= self.extent:
-            return None, None
+            return None, None, block_workers(self.rows * m, n * m, _PARTS)
         tree = cKDTree(ty, leafsize=16, balanced_tree=False)
         radii = self.radii + reach
         counts = tree.query_ball_point(self.centres, radii, return_length=True)
+        pairs = int(counts.sum()) * (n // len(self.blocks) or 1)
         if counts.sum() > _DENSE_FRACTION * len(self.blocks) * m:
-            return None, None
-        return tree, radii
+            return None, None, block_workers(self.rows * m, n * m, _PARTS)
+        return tree, radii, block_workers(pairs // len(self.blocks), pairs, _PARTS)
 
     def _blocks(self, part: int, tree: Any, radii: Any) -> Iterator[tuple[int, int, Any]]:
         """The blocks of partition ``part``, one at a time: ``(lo, hi, None)`` for all source
@@ -192,7 +193,7 @@ class _Posterior:
 
     def _plan(self, ty: FloatArray, sigma2: float) -> Iterator[tuple[int, int, Any]]:
         """Every block of this E-step (all partitions)."""
-        tree, radii = self._mode(ty, sigma2)
+        tree, radii, _ = self._mode(ty, sigma2)
         for part in range(_PARTS):
             yield from self._blocks(part, tree, radii)
 
@@ -205,14 +206,14 @@ class _Posterior:
         ax = self.x2 * (0.5 * inv)
         pt1 = np.empty(n)
         ty_scaled = ty * inv
-        tree, radii = self._mode(ty, sigma2)
+        tree, radii, workers = self._mode(ty, sigma2)
 
         def run(part: int) -> tuple[FloatArray, float]:
             return self._sums(self._blocks(part, tree, radii), self.bufs[part], ty_scaled,
                               ax, ay, log_c, pt1)
 
-        if self.workers > 1:
-            with ThreadPoolExecutor(self.workers) as pool:
+        if workers > 1:
+            with ThreadPoolExecutor(workers) as pool:
                 parts = list(pool.map(run, range(_PARTS)))
         else:
             parts = [run(part) for part in range(_PARTS)]

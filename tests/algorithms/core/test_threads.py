@@ -12,7 +12,10 @@ from threadpoolctl import ThreadpoolController, threadpool_info
 
 from algorithms.core.threads import (  # _release: threadpoolctl 3.8 keeps control per thread
     SERIAL_BELOW,
+    THREADED_BLOCK,
+    THREADED_WORK,
     _release,
+    block_workers,
     query_workers,
     single_blas_thread,
     usable_cores,
@@ -98,6 +101,14 @@ def test_blocks_on_two_threads_ending_out_of_order(two_blas_threads):
     assert b_check.is_set()
     assert seen["b after a left"] == {1}
     assert blas_threads() == {2}
+
+
+def test_block_workers():
+    # threads only for large totals of large blocks, never more than the partitions
+    assert block_workers(THREADED_BLOCK, THREADED_WORK - 1, 4) == 1
+    assert block_workers(THREADED_BLOCK - 1, 100 * THREADED_WORK, 4) == 1
+    assert block_workers(THREADED_BLOCK, THREADED_WORK, 4) == min(4, usable_cores())
+    assert block_workers(THREADED_BLOCK, THREADED_WORK, 1) == 1
 
 
 def test_query_workers():

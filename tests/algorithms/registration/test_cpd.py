@@ -148,7 +148,9 @@ def test_threads_change_nothing(monkeypatch):
     dst = move(blob(650, 2), rotation_about([0, 1, 1], 20), [0.1, 0.2, 0.0], rng)
     runs = []
     for cores in (1, 4):
-        monkeypatch.setattr(cpd_mod, "_cores", lambda cores=cores: cores)
+        # forced, whatever the blocks' size (the policy would keep small ones serial)
+        monkeypatch.setattr(cpd_mod, "block_workers",
+                            lambda block, total, parts, cores=cores: min(parts, cores))
         runs.append(quiet(src, dst, w=0.05, max_iterations=20, tolerance=0))
     np.testing.assert_array_equal(runs[0].moved, runs[1].moved)
     assert runs[0].sigma2 == runs[1].sigma2
