@@ -35,11 +35,17 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-from threadpoolctl import threadpool_info, threadpool_limits
+# BENCH_NO_CHOLMOD=1: the permissive default install, as if cvxopt (the GPL cholmod extra)
+# were not installed (every import of it fails), as tests/algorithms/core/test_linsolve.py
+# does. Read here, before anything imports algorithms: every bench imports _common first.
+if os.environ.get("BENCH_NO_CHOLMOD") == "1":
+    sys.modules["cvxopt"] = None  # type: ignore[assignment]
 
-from algorithms.core.laplacian import cotangent_laplacian
-from algorithms.core.linsolve import Factor, available_backends
+import numpy as np  # noqa: E402
+from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
+
+from algorithms.core.laplacian import cotangent_laplacian  # noqa: E402
+from algorithms.core.linsolve import Factor, available_backends  # noqa: E402
 
 __all__ = ["timed", "timed_pair", "wavy_grid", "backend_timings", "table_lines",
            "print_table", "print_ratio_table", "compare", "report", "workers", "apply_policy",

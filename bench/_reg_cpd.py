@@ -73,6 +73,14 @@ def case_cpd(quick: bool) -> None:
                 run_pycpd, _error, peer_name="pycpd RigidRegistration", ours_threads=threads,
                 peer_threads="numpy/BLAS", warmup=lambda: small, repeats=1)
 
+    from registration import one_core, self_rows  # noqa: PLC0415 - the bench's own helpers
+
+    if self_rows():  # goal: ours at default threads never slower than ours on one core
+        compare("registration", f"CPD rigid+scale {n:,}↔{n:,}: ours default threads vs one "
+                "core", lambda s: _pair(n, s), ours, one_core(ours), _error,
+                peer_name="ours on one core", ours_threads=threads,
+                peer_threads="1 core, BLAS 1, E-step and kd-tree workers 1", repeats=1)
+
     big = 10_000 if quick else 20_000
 
     def two_iterations(d: dict[str, Any]) -> int:

@@ -17,6 +17,11 @@ Cases:
   its default stopping rule (at most 30 iterations; ours ``tolerance=1e-6``, Open3D 1e-6 /
   1e-6), against Open3D's ``registration_icp``; and the 30 iterations against a plain numpy
   + ``cKDTree`` loop (query with the policy's ``workers``, Kabsch by SVD, compose);
+- ICP point_to_plane, the same pairs, 30 iterations on both sides, both given the same
+  target normals (Open3D's 10-nearest estimate, made outside the timing);
+- under the default policy only: ours at default threads against ours pinned to one core in
+  the same process (``one_core``), for ICP (default stop) and CPD: default must never be
+  slower;
 - rigid CPD with scale (``_reg_cpd``) against pycpd, and its memory bound;
 - FPFH RANSAC, alone and refined (``_reg_ransac``), against Open3D's tutorial pipeline.
 
@@ -26,7 +31,9 @@ A benchmark never asserts.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -37,7 +44,16 @@ from scipy.spatial.transform import Rotation
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from _common import angle_deg, apply_policy, blob, compare, report, workers  # noqa: E402
+from _common import (  # noqa: E402
+    angle_deg,
+    apply_policy,
+    blob,
+    compare,
+    report,
+    single_thread,
+    workers,
+)
+from threadpoolctl import threadpool_limits  # noqa: E402
 
 from algorithms.registration import icp  # noqa: E402
 
@@ -66,6 +82,28 @@ def plain_icp(src: np.ndarray, dst: np.ndarray, iterations: int, max_dist: float
         transform = step @ transform
         moved = moved @ rot.T + step[:3, 3]
     return transform
+
+
+def one_core(fn: Callable[[Any], Any]) -> Callable[[Any], Any]:
+    """``fn`` run as under the one-thread policy, in this process: pinned to one core
+    (the package's policy reads the affinity: kd-tree and E-step workers 1) with every
+    BLAS/OpenMP pool at one thread; the affinity and pools come back after the call."""
+    def run(d: Any) -> Any:
+        cpus = os.sched_getaffinity(0)
+        os.sched_setaffinity(0, {min(cpus)})
+        try:
+            with threadpool_limits(1):
+                return fn(d)
+        finally:
+            os.sched_setaffinity(0, cpus)
+    return run
+
+
+def self_rows() -> bool:
+    """Whether the rows "ours at default threads vs ours on one core" are meaningful here
+    (default policy, more than one core, affinity settable)."""
+    return not single_thread() and hasattr(os, "sched_setaffinity") and \
+        len(os.sched_getaffinity(0)) > 1
 
 
 def icp_pair(n: int, seed: int) -> dict[str, Any]:
@@ -100,10 +138,12 @@ def case_icp(n: int) -> None:
         o3d = None
         print("note: Open3D is not installed (the bench extra): its ICP rows are skipped")
 
-    def ours(tol: float) -> Any:
+    def ours(tol: float, metric: str = "point_to_point") -> Any:
         def run(d: dict[str, Any]) -> Any:
             res = icp(d["src"], d["dst"], max_iterations=ITERATIONS, tolerance=tol,
-                      max_correspondence_distance=MAX_DIST)
+                      max_correspondence_distance=MAX_DIST, metric=metric,
+                      target_normals=d.get("normals") if metric != "point_to_point"
+                      else None)
             return res.transform, res.iterations
         return run
 
@@ -114,6 +154,10 @@ def case_icp(n: int) -> None:
             a.points = o3d.utility.Vector3dVector(d["src"])
             b.points = o3d.utility.Vector3dVector(d["dst"])
             d["o3d"] = (a, b)
+            # the target's normals for the plane metric, made once (Open3D's 10 nearest),
+            # outside the timing: both sides use the same ones
+            b.estimate_normals(o3d.geometry.KDTreeSearchParamKNN(10))
+            d["normals"] = np.asarray(b.normals).copy()
         return d
 
     label = f"ICP p2p {n:,}↔{n:,}"
@@ -138,6 +182,24 @@ def case_icp(n: int) -> None:
         compare("registration", f"{label}, default stop 1e-6 (≤ 30 it.)", data, ours(1e-6),
                 o3d_icp(1e-6), pose_error, peer_name="Open3D registration_icp",
                 ours_threads=kd, peer_threads="TBB (open3d.utility.set_max_threads)")
+        plane = reg.TransformationEstimationPointToPlane()
+
+        def o3d_plane(d: dict[str, Any]) -> Any:
+            a, b = d["o3d"]
+            crit = reg.ICPConvergenceCriteria(relative_fitness=0.0, relative_rmse=0.0,
+                                              max_iteration=ITERATIONS)
+            return np.asarray(reg.registration_icp(a, b, MAX_DIST, np.eye(4), plane,
+                                                   crit).transformation)
+
+        compare("registration", f"ICP point_to_plane {n:,}↔{n:,}, 30 iterations (the same "
+                "target normals)", data, ours(0.0, "point_to_plane"), o3d_plane, pose_error,
+                peer_name="Open3D registration_icp", ours_threads=kd,
+                peer_threads="TBB (open3d.utility.set_max_threads)")
+    if self_rows():  # goal: ours at default threads never slower than ours on one core
+        compare("registration", f"{label}, default stop: ours default threads vs one core",
+                data, ours(1e-6), one_core(ours(1e-6)), pose_error,
+                peer_name="ours on one core", ours_threads=kd,
+                peer_threads="1 core, BLAS 1, kd-tree workers 1")
     compare("registration", f"{label}, 30 iterations", data, ours(0.0),
             lambda d: plain_icp(d["src"], d["dst"], ITERATIONS, MAX_DIST), pose_error,
             peer_name="numpy+cKDTree loop", ours_threads=kd,
