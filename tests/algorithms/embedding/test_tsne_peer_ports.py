@@ -26,18 +26,24 @@ def _assert_uniform_grid(y: np.ndarray) -> None:
 
 
 # scikit-learn: sklearn/manifold/tests/test_t_sne.py::test_uniform_grid (barnes_hut, exact;
-# fft is our approximate path). Its re-run from init=Y is kept, but here every seed passes
-# on the first run, with the exact path's KL (0.066).
+# fft is our approximate path), with its protocol: a run that fails the check is re-run
+# once from its own embedding (init=Y), since a random start can fold the grid. The run
+# that passes must also reach the exact path's KL (0.066). Which seeds fold depends on the
+# last bits of the arithmetic (here, numpy 2.4.6 on OpenBLAS, seed 0's first exact run
+# folds); a re-run of a good embedding, early exaggeration included, can fold it too, so,
+# as in scikit-learn, only a failed run is re-run.
 @pytest.mark.parametrize("method", ["exact", "fft"])
 @pytest.mark.parametrize("seed", range(3))
 def test_uniform_grid(method: str, seed: int) -> None:
     res = tsne(X_2D_GRID, perplexity=50, init="random", seed=seed, method=method,
                max_iterations=500)
-    _assert_uniform_grid(res.embedding)
+    try:
+        _assert_uniform_grid(res.embedding)
+    except AssertionError:
+        res = tsne(X_2D_GRID, perplexity=50, init=res.embedding, seed=seed, method=method,
+                   max_iterations=500)
+        _assert_uniform_grid(res.embedding)
     assert res.kl_divergence < 0.07
-    again = tsne(X_2D_GRID, perplexity=50, init=res.embedding, seed=seed, method=method,
-                 max_iterations=500)
-    _assert_uniform_grid(again.embedding)
 
 
 def test_array_init_is_used_as_given() -> None:
