@@ -167,15 +167,16 @@ class _Posterior:
         threads that pay for this E-step (:func:`~algorithms.core.threads.block_workers`)."""
         m = ty.shape[0]
         n = self.x.shape[0]
+        all_pairs = None, None, block_workers(self.rows * m, n * m, _PARTS)
         reach = math.sqrt(2.0 * sigma2 * (math.log(m) + _TRUNCATE))
         if len(self.blocks) < 2 or m < _TRUNCATE_ABOVE or reach >= self.extent:
-            return None, None, block_workers(self.rows * m, n * m, _PARTS)
+            return all_pairs
         tree = cKDTree(ty, leafsize=16, balanced_tree=False)
         radii = self.radii + reach
-        counts = tree.query_ball_point(self.centres, radii, return_length=True)
-        pairs = int(counts.sum()) * (n // len(self.blocks) or 1)
-        if counts.sum() > _DENSE_FRACTION * len(self.blocks) * m:
-            return None, None, block_workers(self.rows * m, n * m, _PARTS)
+        reached = int(tree.query_ball_point(self.centres, radii, return_length=True).sum())
+        if reached > _DENSE_FRACTION * len(self.blocks) * m:
+            return all_pairs
+        pairs = reached * (n // len(self.blocks) or 1)
         return tree, radii, block_workers(pairs // len(self.blocks), pairs, _PARTS)
 
     def _blocks(self, part: int, tree: Any, radii: Any) -> Iterator[tuple[int, int, Any]]:

@@ -180,7 +180,6 @@ class _Problem:
         self.partner: IntArray | None = None
         self.slack = np.empty(n)
         self.half_gap: FloatArray | None = None
-        self.last = np.eye(src.shape[1] + 1)
         self.reach = float(np.sqrt(np.max(np.einsum("ij,ij->i", self.xc, self.xc))))
         self.extent = self.reach + float(np.linalg.norm(self.x_mean)) + \
             float(np.max(np.abs(dst)))
@@ -251,7 +250,6 @@ class _Problem:
         d = self.src.shape[1]
         # The tree's cut-off compares rounded squares: search a hair wider, cut exactly.
         bound = math.inf if self.max_dist is None else self.max_dist * (1 + 1e-9)
-        self.last = transform
         rest: IntArray | None = None
         if self.partner is None:
             dist, idx = np.empty(self.n), np.empty(self.n, dtype=np.intp)

@@ -70,9 +70,7 @@ def _from_a_trusted_proxy(request: Request) -> bool:
 
 def _forwarded(request: Request, name: str) -> str | None:
     """The first value of an ``X-Forwarded-*`` header (a chain of proxies lists several,
-    the client's first), if a trusted proxy sent it."""
-    if not _from_a_trusted_proxy(request):
-        return None
+    the client's first)."""
     value = request.headers.get(name)
     first = value.split(",", 1)[0].strip() if value else ""
     return first or None
@@ -88,6 +86,8 @@ def base_url(request: Request) -> str:
     public: str | None = state(request).settings.public_url
     if public:
         return public.rstrip("/")
+    if not _from_a_trusted_proxy(request):
+        return f"{request.url.scheme}://{request.url.netloc}"
     scheme = _forwarded(request, "x-forwarded-proto") or request.url.scheme
     host = _forwarded(request, "x-forwarded-host") or request.url.netloc
     prefix = (_forwarded(request, "x-forwarded-prefix") or "").strip("/")
