@@ -1,7 +1,8 @@
 """The execution engine: Dask distributed, embedded or external, plus a fast path.
 
 Embedded (default): a :class:`distributed.LocalCluster` with process workers, one thread each,
-started with the service. External: ``MORPHSERVE_SCHEDULER=tcp://host:8786``; tasks are then
+and its scheduler in a process of its own (:mod:`service.jobs.scheduler`), started with the
+service. External: ``MORPHSERVE_SCHEDULER=tcp://host:8786``; tasks are then
 submitted with ``fire_and_forget`` and the workers write their outputs to the shared data dir,
 so work survives a restarting API.
 
@@ -47,6 +48,7 @@ from distributed.security import Security
 
 from service.jobs.fastpool import FastPool, children_ignore_sigint
 from service.jobs.runner import TOPIC, cancel_event_name, run_job
+from service.jobs.scheduler import embedded_scheduler, send_promptly
 from service.jobs.status import JobStatus, Outcome
 from service.jobs.store import JobRecord, JobStore
 from service.problems import problem_body
@@ -62,10 +64,13 @@ by restarting its worker."""
 
 
 class WarmUp(WorkerPlugin):
-    """Imports the runner (and so the catalog and every algorithm) when a worker starts."""
+    """Imports the runner (and so the catalog and every algorithm) when a worker starts, and
+    has the worker report to the scheduler promptly
+    (:data:`~service.jobs.scheduler.SEND_INTERVAL`)."""
 
     def setup(self, worker: Any) -> None:
         import service.jobs.runner  # noqa: F401
+        send_promptly(getattr(worker, "batched_stream", None))
 
 
 @dataclass
@@ -84,12 +89,12 @@ class _Handle:
     """The outcome is being committed: the handle stays in the table until it is durable."""
 
 
-#: Dask's monitoring, turned down. The embedded scheduler and the nannies live in the
-#: service's own event loop: at the defaults (psutil disk and network counters every 0.5 s,
-#: each nanny's memory every 0.1 s, a 20 ms tick, a 10 ms statistical profiler in every
-#: worker) they took about a quarter of the service's busy CPU under load (py-spy), time
-#: every request waited for. The memory limit is still enforced, once a second; the tick
-#: still warns of a blocked loop.
+#: Dask's monitoring, turned down. The nannies live in the service's own event loop (the
+#: embedded scheduler did too, before it had a process of its own): at the defaults (psutil
+#: disk and network counters every 0.5 s, each nanny's memory every 0.1 s, a 20 ms tick, a
+#: 10 ms statistical profiler in every worker) they took about a quarter of the service's
+#: busy CPU under load (py-spy), time every request waited for. The memory limit is still
+#: enforced, once a second; the tick still warns of a blocked loop.
 QUIET_MONITORING = {
     "distributed.admin.system-monitor.interval": "2s",
     "distributed.admin.system-monitor.disk": False,
@@ -147,15 +152,16 @@ class Engine:
                 dask.config.set({"distributed.scheduler.http.routes": [],
                                  "distributed.worker.http.routes": []})
             with children_ignore_sigint():
-                self.cluster = await LocalCluster(
+                # the scheduler in a process of its own (service/jobs/scheduler.py), the
+                # nannies here, each worker in its own process
+                self.cluster = await embedded_scheduler(LocalCluster(
                     n_workers=self.settings.workers, threads_per_worker=1, processes=True,
                     asynchronous=True, dashboard_address=dashboard, scheduler_port=0,
                     host="127.0.0.1", protocol="tls://", security=Security.temporary(),
                     memory_limit=self.settings.worker_memory_limit,
-                    silence_logs=logging.ERROR)
-            if dashboard is None:
-                self.cluster.scheduler.http_server.stop()  # Dask always starts one
+                    silence_logs=logging.ERROR))
             self.client = await Client(self.cluster, asynchronous=True)  # its security too
+        send_promptly(getattr(self.client, "scheduler_comm", None))
         self.client.subscribe_topic(TOPIC, self._on_event)
         await self.client.register_plugin(WarmUp(), name="morphserve-warm-up")
         await self.recover()

@@ -45,7 +45,8 @@ print(json.dumps(out))
 
 def dask_ports(srv: LiveServer, *, service_only: bool = False) -> list[int]:
     """The TCP ports the server's process tree listens on (``service_only``: the service's
-    own process, where the scheduler and the nannies are), the API's excepted."""
+    own process, where the nannies are; the scheduler has a process of its own), the API's
+    excepted."""
     assert srv.proc is not None
     root = psutil.Process(srv.proc.pid)
     ports = set()
@@ -80,8 +81,8 @@ def test_dask_listens_only_on_loopback_and_refuses_strangers(server: LiveServer)
     (mutual TLS: the server checks the client's certificate too)."""
     ports = dask_ports(server)
     comms = [port for port in ports if not speaks_http(port)]
-    # the scheduler and two nannies in the service's process, one worker in each of two
-    # processes; each worker also has an HTTP server, answering nothing (below)
+    # two nannies in the service's process, the scheduler in its own, one worker in each of
+    # two processes; each worker also has an HTTP server, answering nothing (below)
     assert set(dask_ports(server, service_only=True)) <= set(comms)  # no scheduler HTTP
     assert len(comms) == 5 and len(ports) == 7, (comms, ports)
     attempts = [(f"tcp://127.0.0.1:{port}", "plain") for port in comms]
@@ -111,8 +112,8 @@ def test_jobs_still_run_through_dask(tmp_path: Path) -> None:
             r = execute(http, "alignment.rigid", {"source": SOURCE, "target": TARGET})
             assert r.status_code == 200, r.text
             np.testing.assert_allclose(r.json()["rotation"], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-12)
-        service = dask_ports(srv, service_only=True)  # the scheduler and the nannies
+        service = dask_ports(srv, service_only=True)  # the nannies
         outcomes = intrude([(f"tcp://127.0.0.1:{p}", "plain") for p in service])
-        assert len(outcomes) == 3 and all(o.startswith("refused: ") for o in outcomes)
+        assert len(outcomes) == 2 and all(o.startswith("refused: ") for o in outcomes)
     finally:
         srv.stop()
