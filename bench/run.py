@@ -12,7 +12,8 @@ library's threads: the variables are read when a library loads):
 
 Every row is timed by :func:`_common.compare` (interleaved, warm-up, seeds). The benches
 with no peer (``linsolve``: the solver backends against each other; ``service_overhead``:
-the service's own costs) run once at default threads and their tables follow. The rows are
+the service's own costs) and ``multiway`` (2 Dask workers against 1) run once at default
+threads and their tables follow. The rows are
 printed as one table, written to ``build/bench/results.txt`` and, with every time and
 every seed's accuracy, to ``build/bench/results.json`` (``build/`` is not committed).
 
@@ -59,6 +60,8 @@ POLICY_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 OWN_TABLES = {
     "linsolve": ([], ["--sizes", "5k"]),
     "service_overhead": ([], ["--requests", "50", "--clients", "4", "--per-client", "10"]),
+    # 2 Dask workers against 1: meaningless on one pinned core, so at default threads only
+    "multiway": ([], ["--quick"]),
 }
 
 

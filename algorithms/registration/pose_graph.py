@@ -4,6 +4,7 @@ multiway registration)."""
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Sequence
@@ -18,6 +19,7 @@ from scipy.sparse.linalg import spsolve
 from scipy.spatial import cKDTree
 
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, warn
+from algorithms.core.parallel import task_map
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.se3 import adjoint, exp, hat, inverse, left_jacobian_inverse, log
@@ -215,7 +217,9 @@ def pose_graph(
 
     **Cost.** The pairwise ICP runs dominate (``k(k-1)/2`` of them up to 10 sets, about
     ``neighbors · k`` beyond); the optimisation solves a ``6(k-1)`` sparse system per
-    iteration.
+    iteration. The pairwise runs are independent and go through
+    :func:`~algorithms.core.parallel.task_map`: one after the other here, as tasks across
+    the cluster in a job of the service; each result is the same either way.
 
     References
     ----------
@@ -333,6 +337,21 @@ def _register_pair(src: FloatArray, dst: FloatArray, start: FloatArray, opts: _G
     return transform, fitness
 
 
+def _pair_call(call: tuple[int, int, int, FloatArray, FloatArray, FloatArray],
+               report: Progress, *, opts: _GraphOptions, icp_work: int, work: int
+               ) -> tuple[FloatArray, float]:
+    """One pair's registration, a call of :func:`~algorithms.core.parallel.task_map`:
+    ``call`` is ``(number, i, j, set i, set j, start)``; reports in the graph's units."""
+    number, i, j, src, dst, guess = call
+
+    def scaled(done: float, total: float, message: str = "") -> None:  # total: ICP's own
+        report(number * icp_work + done, work, message)
+
+    z, fit = _register_pair(src, dst, guess, opts, scaled)
+    report((number + 1) * icp_work, work, f"pair {i}→{j}: fitness {fit:.3g}")
+    return z, fit
+
+
 def _offset(report: Progress, base: int) -> Progress:
     """``report`` with ``base`` added to ``done`` (the caller's wrapper knows the total)."""
     def inner(done: float, total: float, message: str = "") -> None:
@@ -362,24 +381,23 @@ def _pose_graph(pts: list[FloatArray], start: FloatArray | None, opts: _GraphOpt
     icp_work = len(STAGES) * opts.icp_iterations
     work = len(pairs) * icp_work + 2 * opts.max_iterations
 
-    def scaled(base: float) -> Progress:
-        def inner(done: float, total: float, message: str = "") -> None:  # total: ICP's own
-            report(base + done, work, message)
-        return inner
-
     if start is not None:
         start = np.einsum("ij,kjl->kil", np.linalg.inv(start[0]), start)
+    # The pairwise registrations are independent: the installed mapper may run them
+    # elsewhere (the service: as Dask tasks), each sent only its two sets.
+    calls = [(number, i, j, pts[i], pts[j],
+              np.eye(4) if start is None else np.linalg.inv(start[j]) @ start[i])
+             for number, (i, j) in enumerate(pairs)]
+    registered = task_map(functools.partial(_pair_call, opts=opts, icp_work=icp_work,
+                                            work=work), calls, report)
     edges: list[_Edge] = []
-    for number, (i, j) in enumerate(pairs):
-        guess = np.eye(4) if start is None else np.linalg.inv(start[j]) @ start[i]
-        z, fit = _register_pair(pts[i], pts[j], guess, opts, scaled(number * icp_work))
+    for (i, j), (z, fit) in zip(pairs, registered, strict=True):
         moved = pts[i] @ z[:3, :3].T + z[:3, 3]
         dist, idx = cast(KnnQuery, trees[j].query(moved, distance_upper_bound=opts.max_dist))
         idx = idx[np.isfinite(dist)]
         edges.append(_Edge(i, j, z, _information(pts[j][idx]), fit, int(idx.size),
                            odometry=sequential and j == i + 1,
                            kept=fit >= opts.min_fitness))
-        report((number + 1) * icp_work, work, f"pair {i}→{j}: fitness {fit:.3g}")
     _check_connected(k, edges, opts)
     poses = _spanning_tree_poses(k, [e for e in edges if e.kept])
     used = [e for e in edges if e.kept]

@@ -36,6 +36,7 @@ from service.catalog import lookup
 from service.jobs.spool import load_inputs
 from service.jobs.status import Outcome
 from service.jobs.store import result_path, write_atomic
+from service.jobs.tasks import job_tasks
 from service.problems import geometry_error_problem, problem_body
 
 __all__ = ["TOPIC", "run_job", "cancel_event_name", "Reporter", "serve_fast"]
@@ -154,7 +155,8 @@ def run_job(job_id: str, process_id: str, payload: Mapping[str, Any] | str, *,
         # maybe read-only: a method gets aligned, writable arrays, as a local call does
         # (BLAS takes other paths for misaligned operands, with other last bits)
         kwargs = owned(dict(payload) if not isinstance(payload, str) else load_inputs(payload))
-        outputs = process.run(kwargs, progress=reporter)
+        with job_tasks(reporter):  # on a Dask worker, task_map's calls run as tasks
+            outputs = process.run(kwargs, progress=reporter)
         _check_finite(outputs)
         if persist:
             write_atomic(result_path(Path(data_dir), job_id),
