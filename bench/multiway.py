@@ -31,7 +31,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
@@ -43,33 +42,18 @@ from algorithms.registration import multiway  # noqa: E402
 from service.jobs.engine import QUIET_MONITORING  # noqa: E402
 from service.jobs.runner import run_job  # noqa: E402
 from service.jobs.status import JobStatus  # noqa: E402
+from tests.algorithms.registration._views import views as test_views  # noqa: E402
 
 _ids = itertools.count()
 
 
 def views(k: int, n: int, seed: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """``k`` views of :func:`_common.blob`: view ``i`` keeps the 70 % of the points seen from
-    the direction ``2πi/k`` in the xy-plane, adds noise of 1 % of the size and is seen from
-    the pose ``T_i`` (``T_0 = I``), i.e. holds ``T_i⁻¹ x``. The views and the poses."""
-    rng = np.random.default_rng(seed)
-    base = blob(n, seed)
-    base = base - base.mean(axis=0)
-    sets, poses = [], []
-    for i in range(k):
-        phi = 2 * np.pi * i / k
-        proj = base @ [np.cos(phi), np.sin(phi), 0.0]
-        pts = base[proj >= np.quantile(proj, 0.3)]
-        pts = pts + 0.01 * rng.standard_normal(pts.shape)
-        pose = np.eye(4)
-        if i:
-            axis = rng.uniform(-1, 1, 3)
-            pose[:3, :3] = Rotation.from_rotvec(
-                np.radians(10.0) * axis / np.linalg.norm(axis)).as_matrix()
-            pose[:3, 3] = rng.uniform(-0.1, 0.1, 3)
-        inv = np.linalg.inv(pose)
-        sets.append(pts @ inv[:3, :3].T + inv[:3, 3])
-        poses.append(pose)
-    return sets, poses
+    """``k`` views of :func:`_common.blob` as the multiway tests make them
+    (tests/algorithms/registration/_views.py): view ``i`` keeps the 70 % of the points seen
+    from the direction ``2πi/k`` in the xy-plane, adds noise of 1 % of the size and is seen
+    from a pose ``T_i`` (a turn up to 10°, a shift up to 0.1; ``T_0 = I``). The views and
+    the poses."""
+    return test_views(blob, k=k, n=n, seed=seed)
 
 
 def job(client: Client, sets: list[np.ndarray]) -> np.ndarray:

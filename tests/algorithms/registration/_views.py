@@ -3,10 +3,13 @@ partial noisy views of one shape seen from several poses."""
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-__all__ = ["homogeneous", "apply", "views"]
+__all__ = ["homogeneous", "apply", "views", "assert_same_fields"]
 
 
 def homogeneous(linear: np.ndarray, shift) -> np.ndarray:  # noqa: ANN001
@@ -48,3 +51,13 @@ def views(shape, k: int = 5, n: int = 1500, seed: int = 0, noise: float = 0.01, 
         poses.append(pose)
     return sets, poses
 
+
+
+def assert_same_fields(a: Any, b: Any) -> None:
+    """Two results (dataclasses) equal field by field, arrays bit for bit."""
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and x.tobytes() == y.tobytes(), f.name
+        else:
+            assert x == y, f.name

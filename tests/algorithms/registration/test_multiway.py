@@ -4,7 +4,6 @@ ignored; every error branch names its input, down to the set (``sets[2]``)."""
 
 from __future__ import annotations
 
-import dataclasses
 import warnings
 
 import numpy as np
@@ -13,16 +12,7 @@ import pytest
 from algorithms.core import ConvergenceWarning, DegenerateInputError, InvalidInputError
 from algorithms.registration import generalized_procrustes, multiway, pose_graph
 from tests.algorithms.registration._shapes import blob, random_rotation
-from tests.algorithms.registration._views import apply, homogeneous, views
-
-
-def _same(a, b) -> None:  # noqa: ANN001
-    for f in dataclasses.fields(a):
-        x, y = getattr(a, f.name), getattr(b, f.name)
-        if isinstance(x, np.ndarray):
-            assert x.dtype == y.dtype and x.tobytes() == y.tobytes(), f.name
-        else:
-            assert x == y, f.name
+from tests.algorithms.registration._views import apply, assert_same_fields, homogeneous, views
 
 
 def _noisy_copies(k: int = 4, d: int = 3, seed: int = 0) -> list[np.ndarray]:
@@ -37,13 +27,13 @@ def test_with_correspondences_it_is_generalised_procrustes(model):
     sets = _noisy_copies()
     init = np.stack([homogeneous(random_rotation(np.random.default_rng(i)), [i, 0, 0])
                      for i in range(4)])
-    _same(multiway(sets, model=model), generalized_procrustes(sets, model=model))
+    assert_same_fields(multiway(sets, model=model), generalized_procrustes(sets, model=model))
     with pytest.warns(ConvergenceWarning, match="max_iterations = 3"):
         a = multiway(sets, model=model, init=init, max_iterations=3, tolerance=0.0)
     with pytest.warns(ConvergenceWarning, match="max_iterations = 3"):
         b = generalized_procrustes(sets, model=model, init=init, max_iterations=3,
                                    tolerance=0.0)
-    _same(a, b)
+    assert_same_fields(a, b)
 
 
 def test_without_correspondences_it_is_the_pose_graph():
@@ -52,12 +42,12 @@ def test_without_correspondences_it_is_the_pose_graph():
           "icp_max_iterations": 10}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        _same(multiway(sets, correspondences=False, **kw), pose_graph(sets, **kw))
+        assert_same_fields(multiway(sets, correspondences=False, **kw), pose_graph(sets, **kw))
 
 
 def test_the_other_methods_options_are_ignored():
     sets = _noisy_copies(seed=1)
-    _same(multiway(sets, metric="point_to_point", neighbors=1, min_fitness=0.9,
+    assert_same_fields(multiway(sets, metric="point_to_point", neighbors=1, min_fitness=0.9,
                    edge_prune_threshold=0.5, preference_loop_closure=3.0,
                    icp_max_iterations=2, max_correspondence_distance=0.1),
           multiway(sets))

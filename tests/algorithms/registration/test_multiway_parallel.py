@@ -6,7 +6,6 @@ mapper holds for its own context only."""
 from __future__ import annotations
 
 import contextvars
-import dataclasses
 import importlib
 import threading
 import warnings
@@ -21,7 +20,7 @@ from algorithms.core.errors import Cancelled
 from algorithms.core.parallel import current_mapper, serial_map, task_map, use_mapper
 from algorithms.registration import multiway
 from tests.algorithms.registration._shapes import angle_deg, blob
-from tests.algorithms.registration._views import views
+from tests.algorithms.registration._views import assert_same_fields, views
 
 # the module (the package re-exports the function under the same name)
 pose_graph_module = importlib.import_module("algorithms.registration.pose_graph")
@@ -47,15 +46,6 @@ class _ThreadMapper:
             return list(pool.map(one, items))
 
 
-def _same(a: Any, b: Any) -> None:
-    for f in dataclasses.fields(a):
-        x, y = getattr(a, f.name), getattr(b, f.name)
-        if isinstance(x, np.ndarray):
-            assert x.dtype == y.dtype and x.tobytes() == y.tobytes(), f.name
-        else:
-            assert x == y, f.name
-
-
 @pytest.mark.parametrize("k", [6, 12])  # all pairs (15); beyond 10 sets, 2 neighbours (21)
 def test_a_mapper_runs_every_pair_and_the_result_is_the_serial_one(
         k: int, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -74,7 +64,7 @@ def test_a_mapper_runs_every_pair_and_the_result_is_the_serial_one(
         mapper = _ThreadMapper()
         with use_mapper(mapper):
             mapped = multiway(sets, correspondences=False)
-    _same(mapped, serial)
+    assert_same_fields(mapped, serial)
     pairs = len(serial.edges)
     assert pairs == (k * (k - 1) // 2 if k <= 10 else 2 * k - 3)
     assert mapper.maps == [pairs] and len(mapper.calls) == pairs
