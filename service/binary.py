@@ -211,20 +211,30 @@ def _decode(obj: dict[str, Any], name: str, lifted: Lifted | None = None) -> np.
 
 def owned(kwargs: dict[str, Any]) -> dict[str, Any]:
     """``kwargs`` with every array that is a read-only or misaligned view (of a request
-    body, of an unpickled task) replaced by a writable, aligned copy, in meshes and other
-    dataclasses too: what a method, which may work in place on its input and whose BLAS
-    calls may take other paths for misaligned operands, must get. Arrays that are
-    writable and aligned are kept as they are."""
-    def own(value: Any) -> Any:
-        if isinstance(value, np.ndarray):
-            return value if value.flags.writeable and value.flags.aligned else value.copy()
-        if dataclasses.is_dataclass(value) and not isinstance(value, type):
-            changes = {f.name: own(getattr(value, f.name)) for f in dataclasses.fields(value)
-                       if isinstance(getattr(value, f.name), np.ndarray)}
-            return dataclasses.replace(value, **changes) if changes else value
-        return value
+    body, of an unpickled task) replaced by a writable, aligned copy (:func:`owned_value`):
+    what a method, which may work in place on its input and whose BLAS calls may take other
+    paths for misaligned operands, must get."""
+    return {k: owned_value(v) for k, v in kwargs.items()}
 
-    return {k: own(v) for k, v in kwargs.items()}
+
+def owned_value(value: Any) -> Any:
+    """``value`` with its read-only or misaligned arrays replaced by writable, aligned
+    copies, in meshes and other dataclasses, tuples, lists and dicts too; arrays that are
+    writable and aligned, and everything else, are kept as they are."""
+    if isinstance(value, np.ndarray):
+        return value if value.flags.writeable and value.flags.aligned else value.copy()
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        changes = {f.name: owned_value(getattr(value, f.name))
+                   for f in dataclasses.fields(value)
+                   if isinstance(getattr(value, f.name), np.ndarray)}
+        return dataclasses.replace(value, **changes) if changes else value
+    if isinstance(value, tuple):
+        return tuple(owned_value(v) for v in value)
+    if isinstance(value, list):
+        return [owned_value(v) for v in value]
+    if isinstance(value, dict):
+        return {k: owned_value(v) for k, v in value.items()}
+    return value
 
 
 def encode_arrays(value: Any) -> Any:

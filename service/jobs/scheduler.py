@@ -47,7 +47,7 @@ START_TIMEOUT = 60.0
 
 def send_promptly(comm: Any) -> None:
     """Set the batching interval of a Dask ``BatchedSend`` to at most :data:`SEND_INTERVAL`
-    (``interval`` is distributed's own attribute: tests/service/test_engine_dask.py checks
+    (``interval`` is distributed's own attribute: tests/service/test_engine_scheduler.py checks
     that it is still there and still a float)."""
     if comm is not None and isinstance(getattr(comm, "interval", None), float):
         comm.interval = min(comm.interval, SEND_INTERVAL)
@@ -85,7 +85,7 @@ class SchedulerProcess(ProcessInterface):
         self.process.start()
         send.close()
         loop = asyncio.get_running_loop()
-        address = await loop.run_in_executor(None, _receive, receive, self.process)
+        address = await loop.run_in_executor(None, _receive, receive)
         if address is None:
             self.process.kill()
             raise RuntimeError(f"the Dask scheduler's process did not start within "
@@ -104,7 +104,7 @@ class SchedulerProcess(ProcessInterface):
         await super().close()
 
 
-def _receive(conn: Any, process: Any) -> str | None:
+def _receive(conn: Any) -> str | None:
     """The address the child sends, or None if it exits or is silent too long."""
     try:
         if conn.poll(START_TIMEOUT):

@@ -35,11 +35,10 @@ import uuid
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from algorithms.core.errors import Cancelled
 from algorithms.core.parallel import serial_map, use_mapper
 from algorithms.core.progress import Progress
+from service.binary import owned_value
 
 if TYPE_CHECKING:
     from service.jobs.runner import Reporter
@@ -123,21 +122,6 @@ def _drop(event: dict[str, Any]) -> None:
     """A task publishes no progress of its own: the job's thread reports as tasks end."""
 
 
-def _owned(value: Any) -> Any:
-    """``value`` with read-only or misaligned arrays (views of a task's frames) copied, in
-    tuples, lists and dicts too: a call gets the arrays a local call would (BLAS takes other
-    paths, with other last bits, for misaligned operands)."""
-    if isinstance(value, np.ndarray):
-        return value if value.flags.writeable and value.flags.aligned else value.copy()
-    if isinstance(value, tuple):
-        return tuple(_owned(v) for v in value)
-    if isinstance(value, list):
-        return [_owned(v) for v in value]
-    if isinstance(value, dict):
-        return {k: _owned(v) for k, v in value.items()}
-    return value
-
-
 def _run_task(fn: Callable[[Any, Progress], Any], item: Any, job_id: str,
               time_left: float | None) -> tuple[str, Any, tuple[float, float, str] | None]:
     """One call, on a worker: ``(status, result or reason, last report)``; ``status`` is
@@ -149,7 +133,7 @@ def _run_task(fn: Callable[[Any, Progress], Any], item: Any, job_id: str,
     reporter = Reporter(job_id, time_left, get_worker(), publish=_drop)
     progress = _LastReport(reporter)
     try:
-        value = fn(_owned(item), progress)
+        value = fn(owned_value(item), progress)
     except Cancelled:
         return _CANCELLED, reporter.reason or "dismissed", progress.last
     return _DONE, value, progress.last
