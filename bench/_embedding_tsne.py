@@ -8,13 +8,13 @@ for both) and the KL divergence of each embedding under the *same* P (ours: 3·p
 nearest neighbours) with the exact normaliser Z (all pairs, in blocks), so neither
 library's own approximation of KL is trusted.
 
-Data: 10,000 points in 50 dimensions (``--quick``: 2,000), 20 Gaussian clusters of
-different spreads (``make_blobs``, the seed's draw). Every method runs its defaults: ours
-250 + 500 steps (openTSNE's schedule), openTSNE 250 + 500 (its default ``n_jobs=1``),
-scikit-learn 1,000 steps (``max_iter``) with its default threads (OpenMP); under the
-one-thread policy every pool is held to one thread.
+Data: 10,000 points in 50 dimensions (``--quick``: 2,000, ``--large``: 30,000), 20 Gaussian
+clusters of different spreads (``make_blobs``, the seed's draw). Every method runs its
+defaults: ours 250 + 500 steps (openTSNE's schedule), openTSNE 250 + 500 (its default
+``n_jobs=1``), scikit-learn 1,000 steps (``max_iter``) with its default threads (OpenMP);
+under the one-thread policy every pool is held to one thread.
 
-    python bench/_embedding_tsne.py [--quick] [--big 100000]
+    python bench/_embedding_tsne.py [--quick | --large] [--big 100000]
 
 ``--big N`` (0 to skip) also embeds N points of the same kind once and prints the time
 and the peak memory (tracemalloc of the call, and the process's peak RSS). openTSNE is
@@ -75,10 +75,8 @@ def _figures(d: dict[str, Any], y: np.ndarray) -> dict[str, float]:
     return {"T": trustworthiness(d["x"], y), "KL": exact_kl(d["p"], y)}
 
 
-def case_tsne(quick: bool) -> None:
-    """Rows against openTSNE (when importable) and scikit-learn, on 10,000 × 50
-    (``quick``: 2,000 × 50)."""
-    n = 2000 if quick else 10_000
+def case_tsne(n: int) -> None:
+    """Rows against openTSNE (when importable) and scikit-learn, on ``n`` × 50."""
 
     def sample(seed: int, size: int = n) -> dict[str, Any]:
         x = data(size, seed)
@@ -117,11 +115,12 @@ def big_run(n: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="2,000 points, not 10,000")
+    parser.add_argument("--large", action="store_true", help="30,000 points, not 10,000")
     parser.add_argument("--big", type=int, default=100_000, help="points of the big run "
                         "(0: skip)")
     args = parser.parse_args()
     apply_policy()
-    case_tsne(args.quick)
+    case_tsne(2000 if args.quick else 30_000 if args.large else 10_000)
     report("t-SNE")
     if args.big:
         big_run(args.big)

@@ -1,9 +1,10 @@
 """The deformation family against libigl, side by side in one run.
 
-On one mesh of about 50,000 vertices (a jittered wavy grid made in code: obtuse triangles,
-some negative cotangent weights; its left tenth held, its right tenth lifted and twisted),
-every row goes through ``_common.compare`` (ours and libigl alternately after a warm-up, on
-the grids of seeds 0..2, the median and range of the times, the threads allowed):
+On one mesh of about 50,000 vertices (``--quick`` 5,041, ``--large`` 200,704; a jittered
+wavy grid made in code: obtuse triangles, some negative cotangent weights; its left tenth
+held, its right tenth lifted and twisted), every row goes through ``_common.compare`` (ours
+and libigl alternately after a warm-up, on the grids of seeds 0..2, the median and range of
+the times, the threads allowed):
 
 1. the cotangent Laplacian vs ``igl.cotmatrix`` (ours is ``-cotmatrix``: the difference
    column is ``max |ours + igl|``);
@@ -25,7 +26,7 @@ spokes and rims, computed here for both), and the agreement of the two (the larg
 RMS distance between our vertices and libigl's, for ARAP relative to the RMS displacement:
 libigl fits rotations in single precision).
 
-    python bench/deformation.py [--quick]
+    python bench/deformation.py [--quick | --large]
 
 A benchmark never asserts.
 """
@@ -177,9 +178,11 @@ def case_harmonic(data: Any) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="a tenth of the vertices")
+    parser.add_argument("--large", action="store_true", help="four times the vertices "
+                        "(200,704)")
     args = parser.parse_args()
     apply_policy()
-    nx = 71 if args.quick else 224                          # 5,041 or 50,176 vertices
+    nx = 71 if args.quick else 448 if args.large else 224  # 5,041, 200,704 or 50,176
     data = mesh(nx)
     case_laplacian(data)
     case_arap(data)

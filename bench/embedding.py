@@ -10,9 +10,10 @@ computed inside the call, so the peer's timed call computes it too, on its embed
 the same function (``algorithms.embedding.trustworthiness``; scikit-learn's own sorts the
 full ``n × n`` distance matrix, 3.2 GB at 20,000 points). The row's note says so.
 
-    python bench/embedding.py [--quick] [--only isomap] [--big N] [--n N]
+    python bench/embedding.py [--quick | --large] [--only isomap] [--big N] [--n N]
 
-Cases (sizes divided by 5 with --quick, the swiss roll's set by ``--n``; the swiss roll and
+Cases (sizes divided by 5 with --quick; with --large the swiss roll has 20,000 points and
+t-SNE 30,000; the swiss roll's size set by ``--n``; the swiss roll and
 the digits subset drawn per seed):
 
 - Isomap, 5,000-point swiss roll, 10 neighbours, vs ``sklearn.manifold.Isomap`` (defaults:
@@ -64,6 +65,7 @@ from algorithms.embedding import (  # noqa: E402
     pca,
     trustworthiness,
 )
+from algorithms.embedding.isomap import MAX_ISOMAP_POINTS  # noqa: E402
 
 warnings.simplefilter("ignore", ConvergenceWarning)
 warnings.simplefilter("ignore", FutureWarning)
@@ -98,15 +100,19 @@ def _case(name: str, data: Any, ours: Any, peer: Any, peer_name: str, *,
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="a fifth of the sizes")
+    parser.add_argument("--large", action="store_true",
+                        help="swiss roll 20,000 points (Isomap skipped: over its limit), "
+                        "t-SNE 30,000")
     parser.add_argument("--big", type=int, default=0, metavar="N",
                         help="also embed N points by t-SNE once (time, peak memory)")
     parser.add_argument("--only", metavar="WORD",
                         help="only the cases whose name holds WORD (e.g. isomap, tsne)")
     parser.add_argument("--n", type=int, default=0, metavar="N",
-                        help="points of the swiss roll (default 5,000; 1,000 with --quick)")
+                        help="points of the swiss roll (default 5,000; 1,000 with --quick, "
+                        "20,000 with --large)")
     args = parser.parse_args()
     apply_policy()
-    n = args.n or (1000 if args.quick else 5000)
+    n = args.n or (1000 if args.quick else 20_000 if args.large else 5000)
     m = 200 if args.quick else 1000
     digits = load_digits().data
 
@@ -144,12 +150,14 @@ def main() -> None:
                              lambda x: PCA(2).fit_transform(x), "sklearn PCA"),
     }
     for name, case in cases.items():
-        if args.only is None or args.only in name:
+        if name == "isomap" and n > MAX_ISOMAP_POINTS:
+            print(f"isomap skipped: n={n:,} is over MAX_ISOMAP_POINTS = {MAX_ISOMAP_POINTS:,}")
+        elif args.only is None or args.only in name:
             case()
     from _embedding_tsne import big_run, case_tsne  # noqa: PLC0415
 
     if args.only is None or args.only in "t-sne tsne":
-        case_tsne(args.quick)
+        case_tsne(2000 if args.quick else 30_000 if args.large else 10_000)
     report(FAMILY)
     if args.big:
         big_run(args.big)

@@ -1,11 +1,12 @@
 """The parameterization family against libigl, through the harness of ``_common.compare``.
 
 Every row: ours and libigl alternately after a warm-up, on the disks of seeds 0..2
-(``wavy_grid(nx, seed)``: 50,176 vertices, ``--quick`` 10,000), the median and range of the
-times, the threads allowed, and the quality of each side's map on every seed (flipped
-faces, angle distortion, area distortion, and the energy the method minimises where it
-has one), with the agreement of the two maps (the largest ``|Δuv|`` after the best rigid
-motion of the plane, since the two sides may start the boundary loop elsewhere).
+(``wavy_grid(nx, seed)``: 50,176 vertices, ``--quick`` 10,000, ``--large`` 200,704), the
+median and range of the times, the threads allowed, and the quality of each side's map on
+every seed (flipped faces, angle distortion, area distortion, and the energy the method
+minimises where it has one), with the agreement of the two maps (the largest ``|Δuv|`` after
+the best rigid motion of the plane, since the two sides may start the boundary loop
+elsewhere).
 
 Both sides start from the mesh (vertices and faces) every call: our time includes reading
 the mesh into a disk, finding the pins and the starting map; libigl's includes
@@ -21,7 +22,7 @@ the mesh into a disk, finding the pins and the starting map; libigl's includes
 - ABF++ vs ``igl.lscm`` (``_param_abf``), bijective vs SLIM and stretch-minimizing vs
   ``igl.harmonic`` (``_param_extra``), on this disk and on its four-times-wavier twin.
 
-    python bench/parameterization.py [--quick]
+    python bench/parameterization.py [--quick | --large]
 
 A benchmark never asserts.
 """
@@ -111,9 +112,10 @@ def arap_energy(d: dict[str, Any], uv: np.ndarray) -> dict[str, float]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="a 10,000-vertex disk")
+    ap.add_argument("--large", action="store_true", help="a 200,704-vertex disk")
     args = ap.parse_args()
     apply_policy()
-    nx = 100 if args.quick else 224
+    nx = 100 if args.quick else 448 if args.large else 224
     data = disk(nx)
     size = f"{nx * nx:,} vertices"
 

@@ -17,8 +17,8 @@ threads and their tables follow. The rows are
 printed as one table, written to ``build/bench/results.txt`` and, with every time and
 every seed's accuracy, to ``build/bench/results.json`` (``build/`` is not committed).
 
-    python bench/run.py [--quick] [--only registration,assignment] [--modes 1,default]
-                        [--seeds 3] [--cases 'ICP p2p 100,000|openTSNE']
+    python bench/run.py [--quick | --large] [--only registration,assignment]
+                        [--modes 1,default] [--seeds 3] [--cases 'ICP p2p 100,000|openTSNE']
 
 ``make bench`` runs it (``make bench BENCH_ARGS=--quick`` for the small sizes).
 ``BENCH_NO_CHOLMOD=1`` runs every bench as the permissive default install would (cvxopt, the
@@ -26,9 +26,11 @@ GPL ``cholmod`` extra, made unimportable): the libigl rows then show the default
 and the rows without it what CHOLMOD adds.
 
 ``--quick`` (or ``BENCH_QUICK=1``) runs every bench at its small sizes (a few minutes); the
-full run takes up to about 40 minutes on two cores. Not run here: ``load``, ``transport``,
-``sdk_map`` (service load tests, minutes each) and ``workbench`` (needs a browser). A
-benchmark never asserts.
+full run takes up to about 40 minutes on two cores. ``--large`` runs the benches of
+:data:`LARGE` at their large sizes instead (the meshes at 200,704 vertices, the swiss roll
+at 20,000 points, t-SNE at 30,000) and skips the others; its rows go in the same table. Not
+run here: ``load``, ``transport``, ``sdk_map`` (service load tests, minutes each) and
+``workbench`` (needs a browser). A benchmark never asserts.
 """
 
 from __future__ import annotations
@@ -54,6 +56,8 @@ MODES = {"1": {"BENCH_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREA
                "MKL_NUM_THREADS": "1"},
          "default": {"BENCH_THREADS": "default"}}
 POLICY_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+#: The benches with large sizes (``--large``: the script's own flag).
+LARGE = ("solvers", "deformation", "parameterization", "embedding")
 #: Benches with no peer and their own tables (ours against ours: the solver backends, the
 #: service's overhead), run once at default threads; their output is kept as printed.
 #: Arguments: (full run, quick run).
@@ -77,12 +81,13 @@ def run_own(bench: str, quick: bool) -> str:
     return done.stdout
 
 
-def run_one(bench: str, mode: str, quick: bool, seeds: int, out: Path, cases: str
+def run_one(bench: str, mode: str, size: str, seeds: int, out: Path, cases: str
             ) -> list[dict]:
     env = {k: v for k, v in os.environ.items() if k not in POLICY_VARS}
     env |= MODES[mode] | {"BENCH_JSON": str(out), "BENCH_SEEDS": str(seeds),
                           "BENCH_CASES": cases}
-    cmd = [sys.executable, str(ROOT / "bench" / f"{bench}.py")] + (["--quick"] if quick else [])
+    cmd = [sys.executable, str(ROOT / "bench" / f"{bench}.py")] + \
+        ([f"--{size}"] if size != "full" else [])
     print(f"== {bench} ({'1 thread' if mode == '1' else 'default threads'})", flush=True)
     t = time.perf_counter()
     done = subprocess.run(cmd, env=env, cwd=ROOT, check=False)
@@ -97,6 +102,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true",
                         default=os.environ.get("BENCH_QUICK", "") not in ("", "0"))
+    parser.add_argument("--large", action="store_true",
+                        help="the large sizes of the benches that have them")
     parser.add_argument("--only", default="", help="comma-separated benches (default: all)")
     parser.add_argument("--modes", default="1,default")
     parser.add_argument("--seeds", type=int, default=3)
@@ -105,15 +112,19 @@ def main() -> None:
     parser.add_argument("--out", default=str(ROOT / "build" / "bench"))
     args = parser.parse_args()
     only = args.only.split(",") if args.only else []
-    benches = [b for b in BENCHES if not only or b in only]
-    own = [b for b in OWN_TABLES if (not only or b in only) and not args.cases]
+    if args.quick and args.large:
+        parser.error("--quick and --large exclude each other")
+    size = "quick" if args.quick else "large" if args.large else "full"
+    benches = [b for b in BENCHES if (not only or b in only) and (not args.large or b in LARGE)]
+    own = [b for b in OWN_TABLES if (not only or b in only) and not args.cases
+           and not args.large]
     modes = args.modes.split(",")
     rows: list[dict] = []
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         for bench in benches:
             for mode in modes:
-                rows += run_one(bench, mode, args.quick, args.seeds,
+                rows += run_one(bench, mode, size, args.seeds,
                                 Path(tmp) / f"{bench}-{mode}.json", args.cases)
     own_text = {b: run_own(b, args.quick) for b in own}
     # both policies of a case side by side
@@ -125,8 +136,7 @@ def main() -> None:
     cells = [row_cells(r) if "ours" in r else (r["family"], r["case"], "", r["mode"])
              + ("",) * (len(ROW_HEADER) - 4) for r in rows]
     when = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
-    kind = "quick" if args.quick else "full"
-    lines = [f"bench {kind} run, {when} UTC, {os.cpu_count()} cores, "
+    lines = [f"bench {size} run, {when} UTC, {os.cpu_count()} cores, "
              f"{time.perf_counter() - start:.0f} s; every time "
              f"is the median [range] of the timed runs over seeds 0..{args.seeds - 1}, ours "
              "and the peer alternately after a warm-up; ratio = ours / peer (below 1: we are "
@@ -143,8 +153,8 @@ def main() -> None:
     out.mkdir(parents=True, exist_ok=True)
     (out / "results.txt").write_text(text + "\n")
     (out / "results.json").write_text(json.dumps(
-        {"quick": args.quick, "seeds": args.seeds, "cores": os.cpu_count(), "rows": rows,
-         "own_tables": own_text},
+        {"quick": args.quick, "size": size, "seeds": args.seeds, "cores": os.cpu_count(),
+         "rows": rows, "own_tables": own_text},
         indent=1))
     print(f"\nwritten: {out / 'results.txt'}, {out / 'results.json'}")
 

@@ -4,7 +4,7 @@
 the meshes of seeds 0..2, median and range, the threads allowed); 2. is a table of its own
 (ours against ours, the median of 3):
 
-1. assembly on a 50,176-vertex mesh: our cotangent
+1. assembly on a 50,176-vertex mesh (``--quick`` 5,041, ``--large`` 200,704): our cotangent
    Laplacian vs ``igl.cotmatrix`` (we return
    ``L = D - W``, libigl ``W - D``: the accuracy column is ``max |ours + igl|``), our mass
    matrices vs ``igl.massmatrix`` (``max |ours - igl|``); ratio = ours / igl (below 1: we are
@@ -16,7 +16,7 @@ the meshes of seeds 0..2, median and range, the threads allowed); 2. is a table 
 3. the ARAP local step: :func:`batched_rotations` on 50,176 3×3 matrices vs
    ``np.linalg.svd`` + the reflection fix, with the largest difference of the rotations.
 
-    python bench/solvers.py [--quick]
+    python bench/solvers.py [--quick | --large]
 
 The mesh is a jittered wavy grid (many obtuse triangles, some negative cotangent weights),
 made in code. A benchmark never asserts.
@@ -97,9 +97,11 @@ def rotations(n: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="a tenth of the vertices")
+    parser.add_argument("--large", action="store_true", help="four times the vertices "
+                        "(200,704)")
     args = parser.parse_args()
     apply_policy()
-    nx = 71 if args.quick else 224                        # 5,041 or 50,176 vertices
+    nx = 71 if args.quick else 448 if args.large else 224  # 5,041, 200,704 or 50,176
     assembly(nx)
     rotations(nx * nx)
     report(FAMILY)
