@@ -75,6 +75,11 @@ def _figures(d: dict[str, Any], y: np.ndarray) -> dict[str, float]:
     return {"T": trustworthiness(d["x"], y), "KL": exact_kl(d["p"], y)}
 
 
+def tsne_points(quick: bool, large: bool) -> int:
+    """The points of the t-SNE rows: 10,000, ``quick`` 2,000, ``large`` 30,000."""
+    return 2000 if quick else 30_000 if large else 10_000
+
+
 def case_tsne(n: int) -> None:
     """Rows against openTSNE (when importable) and scikit-learn, on ``n`` × 50."""
 
@@ -120,7 +125,7 @@ def main() -> None:
                         "(0: skip)")
     args = parser.parse_args()
     apply_policy()
-    case_tsne(2000 if args.quick else 30_000 if args.large else 10_000)
+    case_tsne(tsne_points(args.quick, args.large))
     report("t-SNE")
     if args.big:
         big_run(args.big)

@@ -150,14 +150,16 @@ def main() -> None:
                              lambda x: PCA(2).fit_transform(x), "sklearn PCA"),
     }
     for name, case in cases.items():
+        if args.only is not None and args.only not in name:
+            continue
         if name == "isomap" and n > MAX_ISOMAP_POINTS:
             print(f"isomap skipped: n={n:,} is over MAX_ISOMAP_POINTS = {MAX_ISOMAP_POINTS:,}")
-        elif args.only is None or args.only in name:
-            case()
-    from _embedding_tsne import big_run, case_tsne  # noqa: PLC0415
+            continue
+        case()
+    from _embedding_tsne import big_run, case_tsne, tsne_points  # noqa: PLC0415
 
     if args.only is None or args.only in "t-sne tsne":
-        case_tsne(2000 if args.quick else 30_000 if args.large else 10_000)
+        case_tsne(tsne_points(args.quick, args.large))
     report(FAMILY)
     if args.big:
         big_run(args.big)
