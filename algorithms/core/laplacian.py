@@ -45,11 +45,13 @@ The cotangent Laplacian is positive semidefinite on *every* mesh, obtuse angles 
 (it is the stiffness matrix of linear finite elements, :math:`\int\lVert\nabla u\rVert^2`);
 what negative weights cost is the maximum principle (an M-matrix), not definiteness.
 
-The per-face contributions are assembled into one COO array with the diagonal appended
-and converted to CSR once (duplicates summed in C): no Python loop over faces. Index
-arrays are int32 whenever ``n`` and the number of entries fit (as scipy itself chooses;
-the conversion runs twice as fast as with int64), int64 beyond. On a 50,176-vertex mesh
-the cotangent Laplacian takes 0.4-0.9× the time of ``igl.cotmatrix`` (``bench/solvers.py``).
+The per-face weights are computed in blocks of faces small enough to stay in cache, and
+assembled into one COO array (block by block, the diagonal appended) converted to CSR
+once (duplicates summed in C): no Python loop over faces. Index arrays are int32 whenever
+``n`` and the number of entries fit (as scipy itself chooses; the conversion runs twice as
+fast as with int64), int64 beyond. The cotangent Laplacian takes about 0.77× the time of
+``igl.cotmatrix`` on a 50,176-vertex mesh and 0.63× on a 200,704-vertex one
+(``bench/solvers.py``; it was 0.94× and 1.1× with whole-mesh arrays and six sweeps).
 
 References
 ----------
@@ -61,6 +63,7 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, Literal
 
 import numpy as np
@@ -87,6 +90,13 @@ __all__ = [
 # Corner k's opposite edge runs from corner k+1 to corner k+2.
 _NEXT = [1, 2, 0]
 _PREV = [2, 0, 1]
+# Both orientations of the edge opposite each corner, the six of one face side by side.
+_ROWS6 = [1, 2, 0, 2, 0, 1]
+_COLS6 = [2, 0, 1, 1, 2, 0]
+# Faces per block of the per-face geometry: a block's temporaries (about twenty arrays of
+# this length) stay in a core's L2 cache. On a 400k-face mesh this runs 2-3x faster than
+# whole-mesh arrays, with bit-identical results.
+_BLOCK = 8192
 
 
 def _arrays(vertices: Any, faces: Any) -> tuple[FloatArray, IntArray]:
@@ -129,17 +139,26 @@ def _edge_geometry(v: FloatArray, f: IntArray) -> tuple[FloatArray, FloatArray]:
     return sq, dbl
 
 
-def _cot_rows(v: FloatArray, f: IntArray) -> FloatArray:
-    """``(3, m)``: row k = ½ cot of the angle at corner k."""
-    sq, dbl = _edge_geometry(v, f)
+def _per_face(v: FloatArray, f: IntArray,
+              fn: Callable[[FloatArray, FloatArray], FloatArray]) -> FloatArray:
+    """``(3, m)``: ``fn(sq, dbl)`` (a ``(3, b)`` array from :func:`_edge_geometry`'s
+    outputs) over blocks of :data:`_BLOCK` faces."""
+    m = f.shape[0]
+    out = np.empty((3, m))
+    for s in range(0, m, _BLOCK):
+        out[:, s:s + _BLOCK] = fn(*_edge_geometry(v, f[s:s + _BLOCK]))
+    return out
+
+
+def _cot_of(sq: FloatArray, dbl: FloatArray) -> FloatArray:
+    """``(3, b)``: row k = ½ cot of the angle at corner k."""
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 0.25 / dbl
         return (sq[_NEXT] + sq[_PREV] - sq) * inv
 
 
-def _tan_rows(v: FloatArray, f: IntArray) -> FloatArray:
-    """``(3, m)``: row k = inradius / length of the edge opposite corner k."""
-    sq, dbl = _edge_geometry(v, f)
+def _tan_of(sq: FloatArray, dbl: FloatArray) -> FloatArray:
+    """``(3, b)``: row k = inradius / length of the edge opposite corner k."""
     length = np.sqrt(sq)
     with np.errstate(divide="ignore", invalid="ignore"):
         r: FloatArray = dbl / length.sum(axis=0)  # inradius = A / s = dbl / perimeter
@@ -160,7 +179,7 @@ def cotangent_entries(vertices: Any, faces: Any) -> FloatArray:
         Infinite for zero-area faces (:func:`~algorithms.core.mesh.as_mesh` refuses them).
     """
     v, f = _arrays(vertices, faces)
-    return np.ascontiguousarray(_cot_rows(v, f).T)
+    return np.ascontiguousarray(_per_face(v, f, _cot_of).T)
 
 
 def tangent_entries(vertices: Any, faces: Any) -> FloatArray:
@@ -177,35 +196,38 @@ def tangent_entries(vertices: Any, faces: Any) -> FloatArray:
     (m, 3) float array
     """
     v, f = _arrays(vertices, faces)
-    return np.ascontiguousarray(_tan_rows(v, f).T)
-
-
-def _pattern(f: IntArray, n: int, *, diagonal: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Rows and columns of both orientations of the edge opposite each corner (in the order
-    of ``rows3.ravel()`` twice, ``rows3`` a ``(3, m)`` per-corner array), then the diagonal."""
-    f0, f1, f2 = f[:, 0], f[:, 1], f[:, 2]
-    parts_r = [f1, f2, f0, f2, f0, f1]
-    parts_c = [f2, f0, f1, f1, f2, f0]
-    if diagonal:
-        ar = np.arange(n)
-        parts_r.append(ar)
-        parts_c.append(ar)
-    dt = index_dtype(n, 6 * f.shape[0] + n)
-    return (np.concatenate(parts_r).astype(dt, copy=False),
-            np.concatenate(parts_c).astype(dt, copy=False))
+    return np.ascontiguousarray(_per_face(v, f, _tan_of).T)
 
 
 def _assemble(n: int, f: IntArray, rows3: FloatArray, *, laplacian: bool) -> sp.csr_array:
-    """``W`` (or ``D - W`` with ``laplacian``) from per-corner weights ``(3, m)``, in one
-    COO → CSR conversion (duplicates summed there)."""
-    c = rows3.ravel()
-    rows, cols = _pattern(f, n, diagonal=laplacian)
+    """``W`` (or ``D - W`` with ``laplacian``) from per-corner weights ``(3, m)`` (row
+    ``k``: the weight of the edge opposite corner ``k``), in one COO → CSR conversion
+    (duplicates summed there).
+
+    The COO entries come block by block (:data:`_BLOCK` faces: both orientations of their
+    edges, then the next block), so the conversion's scatter writes to the rows of one
+    block of faces at a time: on a 400k-face mesh four times faster than six sweeps over
+    the whole mesh, each of which touches every row.
+    """
+    m = f.shape[0]
+    k = 6 * m + (n if laplacian else 0)
+    dt = index_dtype(n, k)
+    ft = np.ascontiguousarray(f.T, dtype=dt)
+    rows, cols, data = np.empty(k, dtype=dt), np.empty(k, dtype=dt), np.empty(k)
+    sign = -1.0 if laplacian else 1.0
+    for s in range(0, m, _BLOCK):
+        e = min(m, s + _BLOCK)
+        b = e - s
+        for j in range(6):
+            at = slice(6 * s + j * b, 6 * s + (j + 1) * b)
+            rows[at] = ft[_ROWS6[j], s:e]
+            cols[at] = ft[_COLS6[j], s:e]
+            np.multiply(rows3[j % 3, s:e], sign, out=data[at])
     if laplacian:
-        both = np.concatenate([c, c])
-        diag = np.bincount(rows[:both.shape[0]], weights=both, minlength=n)
-        data = np.concatenate([-both, diag])
-    else:
-        data = np.concatenate([c, c])
+        # D: a corner's row gets the weights of its face's two edges there (opposite k±1)
+        touching = rows3[_NEXT] + rows3[_PREV]
+        data[6 * m:] = np.bincount(ft.ravel(), weights=touching.ravel(), minlength=n)
+        rows[6 * m:] = cols[6 * m:] = np.arange(n, dtype=dt)
     out = sp.coo_array((data, (rows, cols)), shape=(n, n)).tocsr()
     out.sum_duplicates()
     return out
@@ -245,7 +267,7 @@ def cotangent_weights(vertices: Any, faces: Any) -> sp.csr_array:
         Symmetric, zero diagonal, ``n = len(vertices)``.
     """
     v, f = _arrays(vertices, faces)
-    return _assemble(v.shape[0], f, _cot_rows(v, f), laplacian=False)
+    return _assemble(v.shape[0], f, _per_face(v, f, _cot_of), laplacian=False)
 
 
 def tangent_weights(vertices: Any, faces: Any) -> sp.csr_array:
@@ -258,7 +280,7 @@ def tangent_weights(vertices: Any, faces: Any) -> sp.csr_array:
         Symmetric, zero diagonal, positive on every edge.
     """
     v, f = _arrays(vertices, faces)
-    return _assemble(v.shape[0], f, _tan_rows(v, f), laplacian=False)
+    return _assemble(v.shape[0], f, _per_face(v, f, _tan_of), laplacian=False)
 
 
 def uniform_weights(n: int, faces: Any) -> sp.csr_array:
@@ -303,7 +325,7 @@ def cotangent_laplacian(vertices: Any, faces: Any) -> sp.csr_array:
     """The cotangent Laplacian ``D - W`` (positive semidefinite on Delaunay meshes), equal to
     ``-igl.cotmatrix(vertices, faces)``."""
     v, f = _arrays(vertices, faces)
-    return _assemble(v.shape[0], f, _cot_rows(v, f), laplacian=True)
+    return _assemble(v.shape[0], f, _per_face(v, f, _cot_of), laplacian=True)
 
 
 def mesh_laplacian(vertices: Any, faces: Any,
@@ -340,7 +362,7 @@ def mesh_laplacian(vertices: Any, faces: Any,
     n = v.shape[0]
     if kind == "uniform":
         return _uniform_laplacian(n, f)
-    rows3 = _cot_rows(v, f) if kind == "cotangent" else _tan_rows(v, f)
+    rows3 = _per_face(v, f, _cot_of if kind == "cotangent" else _tan_of)
     return _assemble(n, f, rows3, laplacian=True)
 
 
@@ -397,6 +419,27 @@ def normalized_laplacian(W: Any, kind: Literal["row", "symmetric"] = "symmetric"
     return sym
 
 
+def _barycentric_of(_sq: FloatArray, dbl: FloatArray) -> FloatArray:
+    """``(3, b)``: a third of each face's area for each of its corners."""
+    return np.broadcast_to(0.5 * dbl / 3.0, (3, dbl.shape[0]))
+
+
+def _voronoi_of(sq: FloatArray, dbl: FloatArray) -> FloatArray:
+    """``(3, b)``: each corner's mixed Voronoi area within its face (Meyer et al.)."""
+    area = 0.5 * dbl
+    # With dot_k = ℓ_{k+1}² + ℓ_{k+2}² - ℓ_k² = 2 |a||b| cos θ_k and dbl = |a||b| sin θ_k:
+    # cot θ_k = dot_k / (2 dbl), so ℓ_k² cot θ_k / 8 = ℓ_k² dot_k / (16 dbl).
+    dot = sq[_NEXT] + sq[_PREV] - sq
+    with np.errstate(divide="ignore", invalid="ignore"):
+        term = sq * dot / (16.0 * dbl)
+    # corner k's Voronoi area within the face: the terms of its two incident edges
+    per_corner: FloatArray = term[_NEXT] + term[_PREV]
+    obtuse = dot < 0
+    hit = obtuse.any(axis=0)
+    per_corner[:, hit] = np.where(obtuse[:, hit], 0.5, 0.25) * area[hit]
+    return per_corner
+
+
 def mass_matrix(vertices: Any, faces: Any,
                 kind: Literal["voronoi", "barycentric"] = "voronoi") -> sp.csr_array:
     r"""The lumped (diagonal) mass matrix of a triangle mesh: the area each vertex stands for.
@@ -423,20 +466,6 @@ def mass_matrix(vertices: Any, faces: Any,
     as_choice(kind, ("voronoi", "barycentric"), name="kind")
     v, f = _arrays(vertices, faces)
     n = v.shape[0]
-    sq, dbl = _edge_geometry(v, f)
-    area = 0.5 * dbl
-    if kind == "barycentric":
-        per_corner = np.broadcast_to(area / 3.0, (3, f.shape[0]))
-    else:
-        # With dot_k = ℓ_{k+1}² + ℓ_{k+2}² - ℓ_k² = 2 |a||b| cos θ_k and dbl = |a||b| sin θ_k:
-        # cot θ_k = dot_k / (2 dbl), so ℓ_k² cot θ_k / 8 = ℓ_k² dot_k / (16 dbl).
-        dot = sq[_NEXT] + sq[_PREV] - sq
-        with np.errstate(divide="ignore", invalid="ignore"):
-            term = sq * dot / (16.0 * dbl)
-        # corner k's Voronoi area within the face: the terms of its two incident edges
-        per_corner = term[_NEXT] + term[_PREV]
-        obtuse = dot < 0
-        hit = obtuse.any(axis=0)
-        per_corner[:, hit] = np.where(obtuse[:, hit], 0.5, 0.25) * area[hit]
+    per_corner = _per_face(v, f, _barycentric_of if kind == "barycentric" else _voronoi_of)
     diag = np.bincount(f.T.ravel(), weights=per_corner.ravel(), minlength=n)
     return sp.diags_array(diag, format="csr")
