@@ -70,6 +70,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from algorithms.core.errors import InvalidInputError
+from algorithms.core.mesh import edge_geometry
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_choice
 
@@ -109,44 +110,14 @@ def index_dtype(n: int, nnz: int) -> type:
     return np.int32 if max(n, nnz) < np.iinfo(np.int32).max else np.int64
 
 
-def _edge_geometry(v: FloatArray, f: IntArray) -> tuple[FloatArray, FloatArray]:
-    """Squared lengths of the edges opposite each corner, ``(3, m)`` (row ``k``: the edge
-    opposite corner ``k``), and doubled face areas ``(m,)``.
-
-    Works one coordinate at a time on 1-D gathers (contiguous, cache-friendly), which is
-    several times faster than gathering ``(m, 3)`` rows and calling ``np.cross``.
-    """
-    f0, f1, f2 = f[:, 0], f[:, 1], f[:, 2]
-    d = v.shape[1]
-    sq = np.zeros((3, f.shape[0]))
-    e1s, e2s = [], []
-    for k in range(d):  # 2 or 3 coordinates, each vectorised over all faces
-        x = v[:, k]
-        a, b, c = x[f0], x[f1], x[f2]
-        e0, e1, e2 = c - b, a - c, b - a
-        sq[0] += e0 * e0
-        sq[1] += e1 * e1
-        sq[2] += e2 * e2
-        e1s.append(e1)
-        e2s.append(e2)
-    if d == 2:
-        dbl = np.abs(e1s[0] * e2s[1] - e1s[1] * e2s[0])
-    else:
-        cx = e1s[1] * e2s[2] - e1s[2] * e2s[1]
-        cy = e1s[2] * e2s[0] - e1s[0] * e2s[2]
-        cz = e1s[0] * e2s[1] - e1s[1] * e2s[0]
-        dbl = np.sqrt(cx * cx + cy * cy + cz * cz)
-    return sq, dbl
-
-
 def _per_face(v: FloatArray, f: IntArray,
               fn: Callable[[FloatArray, FloatArray], FloatArray]) -> FloatArray:
-    """``(3, m)``: ``fn(sq, dbl)`` (a ``(3, b)`` array from :func:`_edge_geometry`'s
-    outputs) over blocks of :data:`_BLOCK` faces."""
+    """``(3, m)``: ``fn(sq, dbl)`` (a ``(3, b)`` array from the outputs of
+    :func:`~algorithms.core.mesh.edge_geometry`) over blocks of :data:`_BLOCK` faces."""
     m = f.shape[0]
     out = np.empty((3, m))
     for s in range(0, m, _BLOCK):
-        out[:, s:s + _BLOCK] = fn(*_edge_geometry(v, f[s:s + _BLOCK]))
+        out[:, s:s + _BLOCK] = fn(*edge_geometry(v, f[s:s + _BLOCK]))
     return out
 
 
@@ -212,7 +183,7 @@ def _assemble(n: int, f: IntArray, rows3: FloatArray, *, laplacian: bool) -> sp.
     m = f.shape[0]
     k = 6 * m + (n if laplacian else 0)
     dt = index_dtype(n, k)
-    ft = np.ascontiguousarray(f.T, dtype=dt)
+    ft: IntArray = np.ascontiguousarray(f.T, dtype=dt)
     rows, cols, data = np.empty(k, dtype=dt), np.empty(k, dtype=dt), np.empty(k)
     sign = -1.0 if laplacian else 1.0
     for s in range(0, m, _BLOCK):

@@ -131,11 +131,13 @@ class _Cholmod:
         import cvxopt
         import cvxopt.cholmod as cholmod
 
-        low = sp.tril(a, format="csc")
-        low.sum_duplicates()
-        col = np.repeat(np.arange(low.shape[1], dtype=np.int64), np.diff(low.indptr))
-        m = cvxopt.spmatrix(cvxopt.matrix(low.data), cvxopt.matrix(low.indices.astype(np.int64)),
-                            cvxopt.matrix(col), low.shape)
+        a = sp.csc_array(a)
+        a.sum_duplicates()
+        col = np.repeat(np.arange(a.shape[1], dtype=np.int64), np.diff(a.indptr))
+        low = a.indices >= col                   # the lower triangle, as triplets
+        m = cvxopt.spmatrix(cvxopt.matrix(a.data[low]),
+                            cvxopt.matrix(a.indices[low].astype(np.int64)),
+                            cvxopt.matrix(col[low]), a.shape)
         self._cvxopt, self._cholmod = cvxopt, cholmod
         self._factor = cholmod.symbolic(m, uplo="L")
         try:

@@ -39,6 +39,8 @@ __all__ = [
     "edges",
     "boundary_edges",
     "boundary_loops",
+    "edge_geometry",
+    "loops_of_edges",
     "face_areas",
     "signed_areas",
     "face_normals",
@@ -129,14 +131,36 @@ def _shape_of(x: Any) -> tuple[int, ...] | None:
     return shape
 
 
-def _doubled_area_and_longest(vertices: FloatArray, faces: IntArray
-                              ) -> tuple[FloatArray, FloatArray]:
-    p0, p1, p2 = (vertices[faces[:, k]] for k in range(3))
-    e0, e1, e2 = p2 - p1, p0 - p2, p1 - p0
-    dbl = _cross_norm(e1, e2)
-    longest = np.maximum(np.maximum(np.einsum("ij,ij->i", e0, e0), np.einsum("ij,ij->i", e1, e1)),
-                         np.einsum("ij,ij->i", e2, e2))
-    return dbl, longest
+def edge_geometry(vertices: Any, faces: Any) -> tuple[FloatArray, FloatArray]:
+    """Squared lengths of the edges opposite each corner, ``(3, m)`` (row ``k``: the edge
+    opposite corner ``k``), and doubled face areas ``(m,)``.
+
+    Works one coordinate at a time on 1-D gathers (contiguous, cache-friendly), which is
+    several times faster than gathering ``(m, 3)`` rows and calling ``np.cross``.
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    f0, f1, f2 = f[:, 0], f[:, 1], f[:, 2]
+    d = v.shape[1]
+    sq = np.zeros((3, f.shape[0]))
+    e1s, e2s = [], []
+    for k in range(d):  # 2 or 3 coordinates, each vectorised over all faces
+        x = v[:, k]
+        a, b, c = x[f0], x[f1], x[f2]
+        e0, e1, e2 = c - b, a - c, b - a
+        sq[0] += e0 * e0
+        sq[1] += e1 * e1
+        sq[2] += e2 * e2
+        e1s.append(e1)
+        e2s.append(e2)
+    if d == 2:
+        dbl = np.abs(e1s[0] * e2s[1] - e1s[1] * e2s[0])
+    else:
+        cx = e1s[1] * e2s[2] - e1s[2] * e2s[1]
+        cy = e1s[2] * e2s[0] - e1s[0] * e2s[2]
+        cz = e1s[0] * e2s[1] - e1s[1] * e2s[0]
+        dbl = np.sqrt(cx * cx + cy * cy + cz * cz)
+    return sq, dbl
 
 
 def _cross_norm(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -219,8 +243,8 @@ def as_mesh(
             f"Expected `{fname}` to hold three distinct vertex indices per face, got "
             f"{f[row].tolist()} at row {row}.", field=fname)
     if not allow_degenerate:
-        dbl, longest = _doubled_area_and_longest(v, f)
-        bad = dbl <= DEGENERATE_RTOL * longest
+        sq, dbl = edge_geometry(v, f)
+        bad = dbl <= DEGENERATE_RTOL * sq.max(axis=0)
         if bad.any():
             row = int(np.argmax(bad))
             count = int(np.count_nonzero(bad))
@@ -387,7 +411,24 @@ def boundary_loops(faces: Any) -> list[IntArray]:
     Where a vertex has two outgoing boundary edges (two fans touching at one vertex) the
     walk takes the first unused one, so such a vertex may appear twice in one loop.
     """
-    be = boundary_edges(faces)
+    return loops_of_edges(boundary_edges(faces))
+
+
+def loops_of_edges(edges: Any) -> list[IntArray]:
+    """Walk directed boundary edges into closed loops, as :func:`boundary_loops` does with
+    those of :func:`boundary_edges` (for a caller that has them already).
+
+    Parameters
+    ----------
+    edges : (b, 2) int array
+        Rows ``(i, j)``: a boundary edge from ``i`` to ``j``.
+
+    Returns
+    -------
+    list of (k,) int arrays
+        As :func:`boundary_loops`.
+    """
+    be = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
     if be.shape[0] == 0:
         return []
     order = np.argsort(be[:, 0], kind="stable")      # outgoing edges grouped by start vertex

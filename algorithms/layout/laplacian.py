@@ -257,12 +257,14 @@ def face_orientation(x: FloatArray, faces: IntArray) -> tuple[int, int]:
     squared longest edge (or all its corners coincide); flipped when, not degenerate, its
     signed area has the sign opposite to the sum of all signed areas.
     """
-    p0, p1, p2 = x[faces[:, 0]], x[faces[:, 1]], x[faces[:, 2]]
-    a, b = p1 - p0, p2 - p0
-    doubled = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-    c = p2 - p1
-    longest = np.maximum(np.maximum(np.einsum("ij,ij->i", a, a), np.einsum("ij,ij->i", b, b)),
-                         np.einsum("ij,ij->i", c, c))
+    f0, f1, f2 = faces[:, 0], faces[:, 1], faces[:, 2]
+    u, w = x[:, 0], x[:, 1]          # one coordinate at a time: 1-D gathers
+    u0, w0 = u[f0], w[f0]
+    ax, ay = u[f1] - u0, w[f1] - w0
+    bx, by = u[f2] - u0, w[f2] - w0
+    cx, cy = bx - ax, by - ay
+    doubled = ax * by - ay * bx
+    longest = np.maximum(np.maximum(ax * ax + ay * ay, bx * bx + by * by), cx * cx + cy * cy)
     degenerate = np.abs(doubled) <= DEGENERATE_RTOL * longest
     sign = 1.0 if doubled.sum() >= 0 else -1.0
     flipped = (doubled * sign < 0) & ~degenerate

@@ -8,11 +8,13 @@ from typing import Any, Literal, get_args
 import numpy as np
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.mesh import Mesh, boundary_loops, components, face_angles, read_mesh
+from algorithms.core.laplacian import mesh_laplacian
+from algorithms.core.linsolve import PinnedSystem
+from algorithms.core.mesh import Mesh, components, face_angles, loops_of_edges, read_mesh
 from algorithms.core.types import FloatArray, IntArray
 
 __all__ = ["NotADiskError", "Disk", "read_disk", "check_disk", "convex_boundary", "Boundary",
-           "BOUNDARIES"]
+           "BOUNDARIES", "pinned_map"]
 
 
 class NotADiskError(InvalidInputError):
@@ -75,18 +77,25 @@ def check_disk(mesh: Mesh, *, name: str = "mesh") -> IntArray:
                     name)
     a = f.ravel()
     b = f[:, [1, 2, 0]].ravel()
-    undirected, inverse, ucount = np.unique(np.minimum(a, b) * n + np.maximum(a, b),
+    forward = a < b
+    undirected, inverse, ucount = np.unique(np.where(forward, a * n + b, b * n + a),
                                             return_inverse=True, return_counts=True)
     if (ucount > 2).any():
         key = int(undirected[np.argmax(ucount > 2)])
         raise _fail(f"the non-manifold edge ({key // n}, {key % n}) shared by "
                     f"{int(ucount.max())} faces", name)
-    directed, dcount = np.unique(a * n + b, return_counts=True)
-    if (dcount > 1).any():
-        key = int(directed[np.argmax(dcount > 1)])
-        raise _fail(f"edge ({key // n}, {key % n}) traversed in the same direction by two "
+    # an edge of two faces is traversed once each way: its directions (+1 low to high,
+    # -1 back) cancel; +-2 means both faces run it the same way
+    turn = np.bincount(inverse, weights=np.where(forward, 1.0, -1.0),
+                       minlength=undirected.shape[0])
+    same = np.abs(turn) > 1
+    if same.any():
+        k = int(np.argmax(same))
+        lo, hi = divmod(int(undirected[k]), n)
+        i, j = (lo, hi) if turn[k] > 0 else (hi, lo)
+        raise _fail(f"edge ({i}, {j}) traversed in the same direction by two "
                     f"faces (inconsistent orientation or a non-manifold edge)", name)
-    count, _ = components(n, np.stack([a, b], axis=1))
+    count, _ = components(n, np.stack(np.divmod(undirected, n), axis=1))
     if count > 1:
         raise _fail(f"{count} connected components", name)
     once = ucount == 1
@@ -98,7 +107,7 @@ def check_disk(mesh: Mesh, *, name: str = "mesh") -> IntArray:
         k = int(np.argmax(out_deg > 1))
         raise _fail(f"the non-manifold vertex {k} where {int(out_deg[k])} fans of faces "
                     f"touch", name)
-    loops = boundary_loops(f)
+    loops = loops_of_edges(np.stack([a[is_bnd], b[is_bnd]], axis=1))
     if len(loops) != 1:
         raise _fail(f"{len(loops)} boundary loops (a surface with "
                     f"{len(loops) - 1} hole{'s' if len(loops) > 2 else ''}); fill or cut the "
@@ -115,6 +124,22 @@ def read_disk(mesh: Any, *, name: str = "mesh") -> Disk:
     keys, checked by :func:`~algorithms.core.mesh.as_mesh` and :func:`check_disk`."""
     m = read_mesh(mesh, name=name)
     return Disk(m, check_disk(m, name=name))
+
+
+def pinned_map(disk: Disk, values: FloatArray,
+               weighting: Literal["uniform", "cotangent", "tangent"]) -> tuple[FloatArray, float]:
+    r"""The spring layout of a checked disk with its boundary loop pinned to ``values``
+    (``(b, 2)``, in the loop's order), and its energy :math:`u^\mathsf{T} L u`.
+
+    What :func:`algorithms.layout.laplacian` computes with these pins, without checking
+    the mesh and the pins again (:func:`read_disk` did) or counting flips (the caller's
+    quality figures do).
+    """
+    m = disk.mesh
+    lap = mesh_laplacian(m.vertices, m.faces, kind=weighting)
+    # one connected component (check_disk) and its boundary pinned: L_ff is non-singular
+    uv = PinnedSystem(lap, disk.loop, name="mesh", check_components=False).solve(values)
+    return uv, max(float(np.einsum("ij,ij->", uv, lap @ uv)), 0.0)
 
 
 Boundary = Literal["circle", "square"]

@@ -33,8 +33,7 @@ from algorithms.core.linsolve import PinnedSystem
 from algorithms.core.mesh import Mesh, face_areas, signed_areas
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.layout import laplacian as spring_layout
-from algorithms.parameterization._disk import Disk, convex_boundary
+from algorithms.parameterization._disk import Disk, convex_boundary, pinned_map
 from algorithms.parameterization._quality import face_frames, jacobians, quality
 from algorithms.parameterization._results import LocalGlobalResult
 from algorithms.parameterization.conformal import lscm_uv
@@ -146,9 +145,7 @@ def initial_map(disk: Disk, init: str) -> FloatArray:
     if init == "lscm":
         uv = lscm_uv(disk)[0]
     else:
-        uv = spring_layout(m, pins={"indices": disk.loop,
-                                    "positions": convex_boundary(disk, "circle")},
-                           weighting="cotangent").positions
+        uv = pinned_map(disk, convex_boundary(disk, "circle"), "cotangent")[0]
     plane = abs(float(signed_areas(uv, m.faces).sum()))
     scale: float = np.sqrt(face_areas(m.vertices, m.faces).sum() / plane)
     return uv * scale

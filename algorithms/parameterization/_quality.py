@@ -58,13 +58,23 @@ class Quality:
 def face_frames(vertices: FloatArray, faces: IntArray) -> FloatArray:
     """Each face's corners in an isometric 2-D frame of its plane, ``(m, 3, 2)``: corner 0
     at the origin, corner 1 on the positive x axis, corner 2 above it (counter-clockwise)."""
-    p = vertices[faces]
-    if p.shape[2] == 2:
-        p = np.concatenate([p, np.zeros(p.shape[:2] + (1,))], axis=2)
-    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    l1 = np.sqrt(np.einsum("ij,ij->i", e1, e1))
-    x2 = np.einsum("ij,ij->i", e1, e2) / l1
-    y2 = np.linalg.norm(np.cross(e1, e2), axis=1) / l1
+    f0, f1, f2 = faces[:, 0], faces[:, 1], faces[:, 2]
+    e1, e2 = [], []
+    for k in range(vertices.shape[1]):          # one coordinate at a time: 1-D gathers
+        x = vertices[:, k]
+        x0 = x[f0]
+        e1.append(x[f1] - x0)
+        e2.append(x[f2] - x0)
+    l1 = np.sqrt(sum(a * a for a in e1))
+    x2 = sum(a * b for a, b in zip(e1, e2)) / l1
+    if len(e1) == 2:
+        cross = np.abs(e1[0] * e2[1] - e1[1] * e2[0])
+    else:
+        cx = e1[1] * e2[2] - e1[2] * e2[1]
+        cy = e1[2] * e2[0] - e1[0] * e2[2]
+        cz = e1[0] * e2[1] - e1[1] * e2[0]
+        cross = np.sqrt(cx * cx + cy * cy + cz * cz)
+    y2 = cross / l1
     out = np.zeros((faces.shape[0], 3, 2))
     out[:, 1, 0] = l1
     out[:, 2, 0] = x2
@@ -106,13 +116,8 @@ def quality(vertices: FloatArray, faces: IntArray, uv: FloatArray,
     w = area[ok]
     if w.sum() <= 0:
         return Quality(flipped, degenerate, float("inf"), float("inf"))
-    scale = float(np.abs(_uv_area(uv, faces)).sum() / area.sum())
+    scale = float((det * area).sum() / area.sum())  # |det J| * area: a face's UV area
     angle = float(np.average(s1[ok] / s2[ok] - 1.0, weights=w))
     areal = float(np.average(np.abs(np.log(det[ok] / scale)), weights=w))
     return Quality(flipped, degenerate, angle, areal)
 
-
-def _uv_area(uv: FloatArray, faces: IntArray) -> FloatArray:
-    p0, p1, p2 = uv[faces[:, 0]], uv[faces[:, 1]], uv[faces[:, 2]]
-    a, b = p1 - p0, p2 - p0
-    return 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])

@@ -17,8 +17,7 @@ from algorithms.core.mesh import Mesh, face_areas, signed_areas
 from algorithms.core.params import Ge, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.types import FloatArray, IntArray
-from algorithms.layout import laplacian as spring_layout
-from algorithms.parameterization._disk import Disk, convex_boundary, read_disk
+from algorithms.parameterization._disk import Disk, convex_boundary, pinned_map, read_disk
 from algorithms.parameterization._quality import face_frames, jacobians, quality
 from algorithms.parameterization.tutte import _mean_value_solve
 
@@ -492,8 +491,7 @@ def tutte_start(disk: Disk) -> FloatArray:
     circle = convex_boundary(disk, "circle")
     uv = _mean_value_solve(m, disk.loop, circle)
     if not (signed_areas(uv, m.faces) > 0).all():
-        uv = spring_layout(m, pins={"indices": disk.loop, "positions": circle},
-                           weighting="uniform").positions
+        uv = pinned_map(disk, circle, "uniform")[0]
     sa = signed_areas(uv, m.faces)
     if not (sa > 0).all():
         t = int(np.argmin(sa))

@@ -4,8 +4,7 @@ interior by the cotangent Laplace equation."""
 from __future__ import annotations
 
 from algorithms.core.params import MeshLike, validate_params
-from algorithms.layout import laplacian as spring_layout
-from algorithms.parameterization._disk import Boundary, convex_boundary, read_disk
+from algorithms.parameterization._disk import Boundary, convex_boundary, pinned_map, read_disk
 from algorithms.parameterization._results import ParameterizationResult, direct_result
 
 __all__ = ["harmonic"]
@@ -87,6 +86,5 @@ def harmonic(mesh: MeshLike, *, boundary: Boundary = "circle") -> Parameterizati
     disk = read_disk(mesh)
     m = disk.mesh
     values = convex_boundary(disk, boundary)
-    layout = spring_layout(m, pins={"indices": disk.loop, "positions": values},
-                           weighting="cotangent")       # its energy is uᵀ L u
-    return direct_result(m, layout.positions, disk.loop, layout.energy)
+    uv, energy = pinned_map(disk, values, "cotangent")
+    return direct_result(m, uv, disk.loop, energy)

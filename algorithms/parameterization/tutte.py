@@ -12,8 +12,7 @@ import scipy.sparse.linalg as sla
 from algorithms.core.mesh import Mesh
 from algorithms.core.params import MeshLike, validate_params
 from algorithms.core.types import FloatArray
-from algorithms.layout import laplacian as spring_layout
-from algorithms.parameterization._disk import Boundary, convex_boundary, read_disk
+from algorithms.parameterization._disk import Boundary, convex_boundary, pinned_map, read_disk
 from algorithms.parameterization._results import ParameterizationResult, direct_result
 
 __all__ = ["tutte", "mean_value_weights", "TutteWeighting", "TUTTE_WEIGHTINGS"]
@@ -149,9 +148,7 @@ def tutte(mesh: MeshLike, *, boundary: Boundary = "circle",
     m = disk.mesh
     values = convex_boundary(disk, boundary)
     if weighting == "uniform":
-        layout = spring_layout(m, pins={"indices": disk.loop, "positions": values},
-                               weighting="uniform")
-        uv, energy = layout.positions, layout.energy
+        uv, energy = pinned_map(disk, values, "uniform")
     else:
         uv = _mean_value_solve(m, disk.loop, values)
         w = mean_value_weights(m.vertices, m.faces)
