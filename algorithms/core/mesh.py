@@ -39,6 +39,7 @@ __all__ = [
     "edges",
     "boundary_edges",
     "boundary_loops",
+    "pattern_components",
     "edge_geometry",
     "loops_of_edges",
     "face_areas",
@@ -560,7 +561,24 @@ def components(n: int, edges: Any) -> tuple[int, IntArray]:
         smallest vertex.
     """
     e = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
-    g = sp.coo_array((np.ones(e.shape[0], dtype=np.int8), (e[:, 0], e[:, 1])), shape=(n, n))
+    return pattern_components(
+        sp.coo_array((np.ones(e.shape[0], dtype=np.int8), (e[:, 0], e[:, 1])), shape=(n, n)))
+
+
+def pattern_components(a: Any) -> tuple[int, IntArray]:
+    """Connected components of the graph whose edges are the stored entries of a square
+    sparse matrix (its sparsity pattern, explicit zeros included, either direction): the
+    components of a mesh from its Laplacian, with no edge list to build.
+
+    Returns
+    -------
+    count : int
+    labels : (n,) int array
+        As :func:`components`.
+    """
+    c = sp.csr_array(a)
+    g = sp.csr_array((np.ones(c.indices.shape[0], dtype=np.int8), c.indices, c.indptr),
+                     shape=c.shape)
     count, labels = connected_components(g, directed=True, connection="weak")
     _, first = np.unique(labels, return_index=True)   # first vertex of each scipy label
     rank = np.empty(count, dtype=np.int64)

@@ -10,7 +10,14 @@ from typing import Any
 import numpy as np
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
-from algorithms.core.mesh import Handles, Mesh, as_handles, components, read_mesh
+from algorithms.core.mesh import (
+    Handles,
+    Mesh,
+    as_handles,
+    components,
+    pattern_components,
+    read_mesh,
+)
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_indices, as_points
 
@@ -65,10 +72,13 @@ def read_positions(positions: Any, count: int, dim: int, *, name: str) -> FloatA
     return pos
 
 
-def _component_labels(mesh: Mesh) -> tuple[int, IntArray, np.ndarray]:
-    f = mesh.faces
-    # every face's three sides, repeats and all (no need to deduplicate for connectivity)
-    count, labels = components(mesh.n_vertices, f[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2))
+def _component_labels(mesh: Mesh, adjacency: Any = None) -> tuple[int, IntArray, np.ndarray]:
+    if adjacency is not None:
+        count, labels = pattern_components(adjacency)
+    else:
+        f = mesh.faces
+        # every face's three sides, repeats and all (no need to deduplicate for connectivity)
+        count, labels = components(mesh.n_vertices, f[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2))
     used = np.zeros(mesh.n_vertices, dtype=bool)
     used[mesh.faces.ravel()] = True
     return count, labels, used
@@ -93,8 +103,12 @@ class Pins:
         return np.concatenate([handle_positions, rest[self.unused]], axis=0)
 
 
-def pins_of(mesh: Mesh, handle_indices: IntArray, *, name: str = "handles") -> Pins:
+def pins_of(mesh: Mesh, handle_indices: IntArray, *, name: str = "handles",
+            adjacency: Any = None) -> Pins:
     """The pinned set of a mesh, after checking that every component holds a handle.
+
+    ``adjacency``, a sparse ``(n, n)`` matrix with the mesh's edges as its pattern (its
+    Laplacian, say), gives the components without building an edge list.
 
     Raises
     ------
@@ -102,7 +116,7 @@ def pins_of(mesh: Mesh, handle_indices: IntArray, *, name: str = "handles") -> P
         A connected component of the mesh (through its faces) without any handle: its
         position would be undetermined (``field=name``).
     """
-    count, labels, used = _component_labels(mesh)
+    count, labels, used = _component_labels(mesh, adjacency)
     has = np.zeros(count, dtype=bool)
     has[labels[handle_indices]] = True
     real = np.zeros(count, dtype=bool)

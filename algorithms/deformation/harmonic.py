@@ -55,8 +55,8 @@ def k_harmonic(mesh: Mesh, handle_indices: Any, handle_positions: FloatArray, k:
         :math:`\sum_c u_c^\mathsf{T} Q u_c`.
     """
     v, f = mesh.vertices, mesh.faces
-    pins = pins_of(mesh, handle_indices, name=name)
     L = cotangent_laplacian(v, f)
+    pins = pins_of(mesh, handle_indices, name=name, adjacency=L)
     Q = L
     if k > 1:
         m = mass_matrix(v, f, kind="voronoi").diagonal()
