@@ -39,6 +39,7 @@ __all__ = [
     "edges",
     "boundary_edges",
     "boundary_loops",
+    "cross_norm",
     "pattern_components",
     "edge_geometry",
     "loops_of_edges",
@@ -154,14 +155,19 @@ def edge_geometry(vertices: Any, faces: Any) -> tuple[FloatArray, FloatArray]:
         sq[2] += e2 * e2
         e1s.append(e1)
         e2s.append(e2)
-    if d == 2:
-        dbl = np.abs(e1s[0] * e2s[1] - e1s[1] * e2s[0])
-    else:
-        cx = e1s[1] * e2s[2] - e1s[2] * e2s[1]
-        cy = e1s[2] * e2s[0] - e1s[0] * e2s[2]
-        cz = e1s[0] * e2s[1] - e1s[1] * e2s[0]
-        dbl = np.sqrt(cx * cx + cy * cy + cz * cz)
-    return sq, dbl
+    return sq, cross_norm(e1s, e2s)
+
+
+def cross_norm(a: list[FloatArray], b: list[FloatArray]) -> FloatArray:
+    """``|a × b|`` of vectors given one coordinate per array (2 or 3 of them, each
+    ``(m,)``): the absolute determinant in 2-D."""
+    if len(a) == 2:
+        return np.abs(a[0] * b[1] - a[1] * b[0])
+    cx = a[1] * b[2] - a[2] * b[1]
+    cy = a[2] * b[0] - a[0] * b[2]
+    cz = a[0] * b[1] - a[1] * b[0]
+    out: FloatArray = np.sqrt(cx * cx + cy * cy + cz * cz)
+    return out
 
 
 def _cross_norm(a: FloatArray, b: FloatArray) -> FloatArray:

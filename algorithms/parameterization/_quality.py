@@ -27,6 +27,7 @@ from typing import TypedDict
 
 import numpy as np
 
+from algorithms.core.mesh import cross_norm
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.layout.laplacian import face_orientation
 
@@ -67,14 +68,7 @@ def face_frames(vertices: FloatArray, faces: IntArray) -> FloatArray:
         e2.append(x[f2] - x0)
     l1 = np.sqrt(sum(a * a for a in e1))
     x2 = sum(a * b for a, b in zip(e1, e2)) / l1
-    if len(e1) == 2:
-        cross = np.abs(e1[0] * e2[1] - e1[1] * e2[0])
-    else:
-        cx = e1[1] * e2[2] - e1[2] * e2[1]
-        cy = e1[2] * e2[0] - e1[0] * e2[2]
-        cz = e1[0] * e2[1] - e1[1] * e2[0]
-        cross = np.sqrt(cx * cx + cy * cy + cz * cz)
-    y2 = cross / l1
+    y2 = cross_norm(e1, e2) / l1
     out = np.zeros((faces.shape[0], 3, 2))
     out[:, 1, 0] = l1
     out[:, 2, 0] = x2

@@ -26,8 +26,8 @@ def harmonic(mesh: MeshLike, *, boundary: Boundary = "circle") -> Parameterizati
     :math:`L` the cotangent Laplacian (:math:`w_{ij} = \tfrac12(\cot\alpha_{ij} +
     \cot\beta_{ij})`) and :math:`c` the boundary loop on the unit circle (arc length, as
     ``igl.map_vertices_to_circle``) or the square :math:`[-1, 1]^2`. One factored solve
-    for both coordinates, through :func:`algorithms.layout.laplacian`; the same as
-    ``igl.harmonic(V, F, loop, c, 1)``.
+    for both coordinates (what :func:`algorithms.layout.laplacian` solves with these pins);
+    the same as ``igl.harmonic(V, F, loop, c, 1)``.
 
     Parameters
     ----------
