@@ -18,6 +18,7 @@ from algorithms.core import (
     polar,
     procrustes,
 )
+from algorithms.core import linalg
 from algorithms.core.linalg import (
     RANK_RTOL,
     RotationFitter,
@@ -316,6 +317,30 @@ def test_fitter_reuses_its_buffers_and_layout(d):
     np.testing.assert_allclose(trace(R, S), trace(best_by_svd(S), S), atol=1e-12)
     np.testing.assert_allclose(R, batched_rotations(S), atol=0)
 
+
+
+def test_fitter_in_blocks_equals_one_pass(monkeypatch):
+    # 5 blocks of 64 and a partial one; the thin (slow path, SVD fallback) and zero
+    # matrices sit in later blocks, so every block's slow indices are offsets within it
+    rng = np.random.default_rng(8)
+    n = 5 * 64 + 37
+    u = np.linalg.qr(rng.standard_normal((n, 3, 3)))[0]
+    w = np.linalg.qr(rng.standard_normal((n, 3, 3)))[0]
+    S = rng.standard_normal((n, 3, 3))
+    thin = np.arange(150, n, 7)
+    S[thin] = u[thin] @ (np.array([1.0, 1e-3, 0.0])[:, None] * w[thin])
+    S[[200, n - 1]] = 0.0
+    layout = np.ascontiguousarray(np.transpose(S, (1, 0, 2)))
+    whole = RotationFitter(n, 3)(layout).copy()
+    monkeypatch.setattr(linalg, "_BLOCK", 64)
+    blocked = RotationFitter(n, 3)
+    assert blocked._a.shape == (10, 64)                     # buffers for one block only
+    out = blocked(layout)
+    np.testing.assert_array_equal(out, whole)
+    R = np.transpose(out, (1, 2, 0))
+    assert_rotations(R, atol=1e-13)
+    np.testing.assert_allclose(trace(R, S), trace(best_by_svd(S), S), atol=1e-12)
+    np.testing.assert_array_equal(R[[200, n - 1]], np.broadcast_to(np.eye(3), (2, 3, 3)))
 
 def test_empty_stack():
     assert batched_rotations(np.zeros((0, 3, 3))).shape == (0, 3, 3)
