@@ -4,8 +4,9 @@ the pinned block split of a Laplacian system.
 Backends
 --------
 :class:`Factor` takes the first backend that is installed and accepts the matrix, in the
-order of :data:`BACKENDS` (fastest factorization first) or, with ``prefer="solve"``, of
-:data:`SOLVE_ORDER` (fastest repeated solves first):
+order of :data:`BACKENDS` (fastest factorization first) or, when it is to serve at least
+:data:`BREAK_EVEN` solves (``solves=``), of :data:`SOLVE_ORDER` (fastest repeated solves
+first):
 
 * ``"cholmod"``: SuiteSparse CHOLMOD (supernodal Cholesky, fill-reducing ordering) through
   ``cvxopt.cholmod``; cvxopt ships CHOLMOD inside its wheels. **Optional**: cvxopt and
@@ -48,8 +49,11 @@ at most 1e-13, 1e-8 for the ill-conditioned LSCM matrices, alike for every backe
   faster than cholespy; cholespy is 1.3× faster only on the 200k torus), so it comes
   first in the default install, for one-shot solves (factor once, solve once).
 * cholespy solves 1.6-3× faster than SuperLU and 2.1-3.6× faster than CHOLMOD with 3
-  right-hand sides, so it leads :data:`SOLVE_ORDER` (ARAP's iterations, a factorization
-  kept for many solves): it pays back its slower factorization after about 20 solves.
+  right-hand sides (cvxopt's ``cholmod.solve`` solves one column at a time), so it leads
+  :data:`SOLVE_ORDER` (ARAP's iterations, a factorization kept for many solves). Factor
+  plus ``k`` solves, cholespy is the faster from ``k`` = 16-44 (median 22) against CHOLMOD
+  and from 5-21 (median 17) against SuperLU on the 50k and 200k rows (on the 200k torus
+  it factors faster too): :data:`BREAK_EVEN`.
 * CHOLMOD, when the extra is installed, factors 3.6-4.1× faster than SuperLU at 50k and
   200k vertices (1.8-2.8× at 5k), so it leads :data:`BACKENDS`; its solves are no faster
   than SuperLU's, so it comes last in :data:`SOLVE_ORDER`.
@@ -80,7 +84,7 @@ from __future__ import annotations
 
 import functools
 import importlib
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -90,13 +94,17 @@ from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_choice, as_indices
 
-__all__ = ["Factor", "PinnedSystem", "BACKENDS", "SOLVE_ORDER", "available_backends"]
+__all__ = ["Factor", "PinnedSystem", "BACKENDS", "BREAK_EVEN", "SOLVE_ORDER",
+           "available_backends"]
 
 #: Backends in order of preference: fastest factorization first (the module docstring has
 #: the measurements). ``"cholmod"`` is there only with the ``cholmod`` extra (cvxopt).
 BACKENDS = ("cholmod", "superlu", "cholespy")
-#: The order for ``prefer="solve"``: fastest repeated solves first.
+#: The order for many solves: fastest repeated solves first.
 SOLVE_ORDER = ("cholespy", "superlu", "cholmod")
+#: From how many solves per factorization :data:`SOLVE_ORDER` beats :data:`BACKENDS`, by
+#: the backend that would factor (the module docstring has the measurements).
+BREAK_EVEN = {"cholmod": 20, "superlu": 16}
 
 _MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy"}
 #: How to get each backend, for the error that asks for one not installed.
@@ -206,12 +214,14 @@ class Factor:
         A symmetric indefinite but non-singular matrix is accepted too: a Cholesky backend
         refuses it and SuperLU takes over.
     backend : {"auto", "cholmod", "superlu", "cholespy"}, default "auto"
-        ``"auto"`` takes the first installed of :data:`BACKENDS` (or of
-        :data:`SOLVE_ORDER` with ``prefer="solve"``). ``"cholmod"`` needs the optional
-        ``cholmod`` extra (cvxopt, GPL-3.0).
-    prefer : {"factor", "solve"}, default "factor"
-        What ``"auto"`` optimises: the factorization (few solves per factorization) or the
-        solves (many: iterations, interactive handles).
+        ``"auto"`` takes the first installed of :data:`BACKENDS`, or of
+        :data:`SOLVE_ORDER` when ``solves`` reaches the :data:`BREAK_EVEN` of the first
+        installed of :data:`BACKENDS`. ``"cholmod"`` needs the optional ``cholmod`` extra
+        (cvxopt, GPL-3.0).
+    solves : int, default 1
+        How many solves the factorization is expected to serve (iterations, frames,
+        interactive handles: a large number): what ``"auto"`` optimises is the
+        factorization plus that many solves.
     name : str, default "A"
         Names the matrix in errors.
 
@@ -241,10 +251,9 @@ class Factor:
     [1.0, 1.0]
     """
 
-    def __init__(self, A: Any, *, backend: str = "auto",
-                 prefer: Literal["factor", "solve"] = "factor", name: str = "A") -> None:
+    def __init__(self, A: Any, *, backend: str = "auto", solves: int = 1,
+                 name: str = "A") -> None:
         as_choice(backend, ("auto",) + BACKENDS, name="backend")
-        as_choice(prefer, ("factor", "solve"), name="prefer")
         a = sp.csc_array(A, dtype=np.float64)
         if a.ndim != 2 or a.shape[0] != a.shape[1]:
             raise InvalidInputError(
@@ -253,8 +262,9 @@ class Factor:
         self.shape: tuple[int, int] = (int(a.shape[0]), int(a.shape[1]))
         installed = available_backends()
         if backend == "auto":
-            order = [b for b in (BACKENDS if prefer == "factor" else SOLVE_ORDER)
-                     if b in installed]
+            order = [b for b in BACKENDS if b in installed]
+            if solves >= BREAK_EVEN.get(order[0], 0):
+                order = [b for b in SOLVE_ORDER if b in installed]
         elif backend not in installed:
             raise InvalidInputError(
                 f"Expected `backend` to be an installed solver backend ({', '.join(installed)}),"
@@ -301,6 +311,7 @@ class Factor:
         Returns
         -------
         x : float array, the shape of ``b``
+            A column of zeros in ``b`` gives a column of zeros, without a solve.
 
         Raises
         ------
@@ -314,6 +325,15 @@ class Factor:
                 f"{tuple(arr.shape)}.", field="b")
         if self._impl is None or arr.size == 0:  # no backend: n == 0
             return np.zeros(arr.shape)
+        if arr.ndim == 2 and arr.shape[1] > 1:
+            # a zero column has the zero solution: a handle region moved in a plane leaves
+            # one coordinate's displacement zero, and CHOLMOD solves column by column
+            live = np.flatnonzero(np.any(arr, axis=0))
+            if live.shape[0] < arr.shape[1]:
+                out = np.zeros(arr.shape)
+                if live.shape[0]:
+                    out[:, live] = self._impl.solve(arr[:, live])
+                return out
         return self._impl.solve(arr)
 
     def __repr__(self) -> str:
@@ -337,8 +357,8 @@ class PinnedSystem:
         The input the pins came from: errors name it.
     backend : str, default "auto"
         Passed to :class:`Factor`.
-    prefer : {"factor", "solve"}, default "factor"
-        Passed to :class:`Factor`: ``"solve"`` when :meth:`solve` will be called many times.
+    solves : int, default 1
+        Passed to :class:`Factor`: how many times :meth:`solve` will be called.
     check_components : bool, default True
         Check that every connected component of the graph of ``L`` (its off-diagonal
         non-zeros) holds a pin. Turn off for matrices that are positive definite on their
@@ -377,8 +397,7 @@ class PinnedSystem:
     """
 
     def __init__(self, L: Any, pinned: Any, *, name: str = "handles", backend: str = "auto",
-                 prefer: Literal["factor", "solve"] = "factor",
-                 check_components: bool = True) -> None:
+                 solves: int = 1, check_components: bool = True) -> None:
         lap = sp.csr_array(L, dtype=np.float64)
         if lap.ndim != 2 or lap.shape[0] != lap.shape[1]:
             raise InvalidInputError(
@@ -408,7 +427,7 @@ class PinnedSystem:
         rows = lap[self.free]
         self.L_ff: sp.csr_array = rows[:, self.free].tocsr()
         self.L_fp: sp.csr_array = rows[:, pins].tocsr()
-        self.factor = Factor(self.L_ff, backend=backend, prefer=prefer, name="L")
+        self.factor = Factor(self.L_ff, backend=backend, solves=solves, name="L")
 
     def solve(self, pinned_values: Any, rhs: Any = None) -> FloatArray:
         """Solve with the pinned rows set to ``pinned_values``.

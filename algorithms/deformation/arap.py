@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from algorithms.core.errors import ConvergenceWarning, InvalidInputError, warn
 from algorithms.core.laplacian import cotangent_entries, cotangent_laplacian
 from algorithms.core.linalg import RotationFitter
-from algorithms.core.linsolve import Factor, available_backends
+from algorithms.core.linsolve import BREAK_EVEN, Factor
 from algorithms.core.mesh import Handles, Mesh, read_mesh
 from algorithms.core.params import Ge, HandlesLike, MeshLike, validate_params
 from algorithms.core.progress import Progress, as_progress
@@ -118,12 +118,14 @@ class ArapSolver:
     similarity : bool, default False
         Fit a rotation and a non-negative scale per vertex (as-similar-as-possible).
     backend : {"auto", "cholmod", "cholespy", "superlu"}, default "auto"
-        The sparse Cholesky backend (:class:`~algorithms.core.linsolve.Factor`). ``"auto"``
-        prefers cholespy here: every iteration is one solve with ``d`` right-hand sides,
-        which cholespy does 3-4× faster than CHOLMOD through cvxopt (7-16 ms against
-        29-40 ms for 40,000 free vertices on the development machine, ``bench/
-        deformation.py``); its slower factorization (0.3-0.5 s against 0.07-0.1 s) is made
-        up after about ten iterations, and at once when the solver serves many targets.
+        The sparse Cholesky backend (:class:`~algorithms.core.linsolve.Factor`), chosen by
+        ``"auto"`` for ``solves`` solves.
+    solves : int, optional
+        How many iterations the factorization will serve, over every :meth:`solve` (each
+        iteration is one solve with ``d`` right-hand sides). Omitted: many (interactive
+        handles, many targets), which favours the backend with the fastest solves
+        (cholespy: 3-4× faster than CHOLMOD through cvxopt, which factors 4-5× faster);
+        :func:`arap` passes its ``max_iterations``.
 
     Attributes
     ----------
@@ -159,7 +161,8 @@ class ArapSolver:
     @validate_params
     def __init__(self, mesh: MeshLike, handle_indices: Any, *,
                  energy: Energy = "spokes_and_rims", similarity: bool = False,
-                 backend: Backend = "auto", _handles_name: str = "handle_indices") -> None:
+                 backend: Backend = "auto", solves: Annotated[int, Ge(1)] | None = None,
+                 _handles_name: str = "handle_indices") -> None:
         self.mesh = read_mesh(mesh)
         self.energy = energy
         self.similarity = similarity
@@ -206,10 +209,8 @@ class ArapSolver:
         self._L_ff = rows_f[:, free].tocsr()
         self._L_fp = rows_f[:, pinned].tocsr()
         self._L_pp = lap[pinned][:, pinned].tocsr()
-        if backend == "auto":  # an iteration is one solve: prefer the fastest solve
-            installed = available_backends()
-            backend = "cholespy" if "cholespy" in installed else "auto"
-        self.factor = Factor(self._L_ff, backend=backend, name="L")
+        self.factor = Factor(self._L_ff, backend=backend, name="L",
+                             solves=max(BREAK_EVEN.values()) if solves is None else solves)
         self._fit = RotationFitter(n, d)
 
     @validate_params
@@ -450,6 +451,6 @@ def arap(
     m = read_mesh(mesh)
     h = read_handles(handles, m)
     solver = ArapSolver(m, h.indices, energy=energy, similarity=similarity,
-                        _handles_name="handles")
+                        solves=max_iterations, _handles_name="handles")
     return solver.solve(h.positions, max_iterations=max_iterations, tolerance=tolerance,
                         progress=progress)

@@ -37,7 +37,7 @@ against :func:`~algorithms.core.laplacian.cotangent_laplacian` and ``igl.cotmatr
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -65,12 +65,7 @@ __all__ = [
     "unwrap_rotations",
     "anchors_of",
     "FacePath",
-    "SOLVES_FOR_FAST_SOLVES",
 ]
-
-#: Frames beyond which the factorization with the fastest solves pays for its slower
-#: factoring (``core.linsolve``: cholespy after about 15 solves).
-SOLVES_FOR_FAST_SOLVES = 15
 
 
 def _edges(v: FloatArray, f: IntArray) -> FloatArray:
@@ -229,8 +224,8 @@ class FacePath:
     anchor : int
         The vertex held on its straight path (see :func:`anchors_of`).
     solves : int
-        How many frames will be solved: above :data:`SOLVES_FOR_FAST_SOLVES` the backend
-        with the fastest solves is chosen, else the one with the fastest factorization.
+        How many frames will be solved: the solver backend is chosen for that many
+        solves (:class:`~algorithms.core.linsolve.Factor`).
     """
 
     def __init__(self, pair: Pair, weights: FloatArray, rotations: FloatArray,
@@ -245,10 +240,7 @@ class FacePath:
         self.gtw = (self.grad.T @ sp.diags_array(np.repeat(weights, self.d))).tocsr()
         lap = system if system is not None else (self.gtw @ self.grad).tocsr()
         self.pins = anchors_of(pair.n, pair.faces, anchor)
-        # a fast factorization for a few frames, fast solves for many (see core.linsolve)
-        prefer: Literal["factor", "solve"] = ("solve" if solves > SOLVES_FOR_FAST_SOLVES
-                                              else "factor")
-        self.solver = PinnedSystem(lap, self.pins, name="anchor", prefer=prefer,
+        self.solver = PinnedSystem(lap, self.pins, name="anchor", solves=solves,
                                    check_components=False)
 
     @staticmethod

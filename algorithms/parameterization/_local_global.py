@@ -77,9 +77,13 @@ class LocalGlobalSolver:
         for ASAP: translation, rotation and scale).
     similarity : bool
         ASAP (similarities) instead of ARAP (rotations).
+    solves : int
+        The most global steps :meth:`solve` will run (``max_iterations``): the backend is
+        chosen for that many solves (:class:`~algorithms.core.linsolve.Factor`).
     """
 
-    def __init__(self, mesh: Mesh, pinned: IntArray, *, similarity: bool) -> None:
+    def __init__(self, mesh: Mesh, pinned: IntArray, *, similarity: bool,
+                 solves: int) -> None:
         v, f = mesh.vertices, mesh.faces
         n, m = mesh.n_vertices, mesh.n_faces
         self.mesh, self.similarity = mesh, similarity
@@ -99,8 +103,8 @@ class LocalGlobalSolver:
         self._C = sp.coo_array((vals, (rows, cols)), shape=(n, 2 * m)).tocsr()
         self._C.sum_duplicates()
         lap = cotangent_laplacian(v, f)
-        self.system = PinnedSystem(lap, self.pinned, name="mesh", prefer="solve",
-                                   check_components=False)  # many solves: cholespy
+        self.system = PinnedSystem(lap, self.pinned, name="mesh", solves=solves,
+                                   check_components=False)
 
     def _global(self, T: FloatArray, values: FloatArray) -> FloatArray:
         rhs = self._C @ T.transpose(0, 2, 1).reshape(-1, 2)

@@ -128,6 +128,7 @@ def _run(mesh: Any, init: str, max_iterations: int, tolerance: float,
         pinned = farthest_boundary_pair(disk)
     else:
         pinned = disk.loop[:1]
-    solver = LocalGlobalSolver(disk.mesh, pinned, similarity=similarity)
+    solver = LocalGlobalSolver(disk.mesh, pinned, similarity=similarity,
+                               solves=max_iterations)
     return solver.solve(uv0, max_iterations=max_iterations, tolerance=tolerance,
                         progress=progress, name="ASAP" if similarity else "ARAP")

@@ -83,12 +83,41 @@ def test_factor_solves_like_spsolve(backend):
 
 
 def test_factor_auto_takes_the_first_backend():
-    assert Factor(spd()).backend == ("cholmod" if HAVE_CVXOPT else "superlu")
-    assert Factor(spd(), prefer="solve").backend == linsolve.SOLVE_ORDER[0]
-    assert PinnedSystem(spd(), [0], prefer="solve").factor.backend == "cholespy"
-    with pytest.raises(InvalidInputError, match=r"`prefer` to be one of 'factor', 'solve', got "
-                       r"'speed'\."):
-        Factor(spd(), prefer="speed")
+    first = "cholmod" if HAVE_CVXOPT else "superlu"
+    assert Factor(spd()).backend == first
+    # below the break-even count the fast factorization wins, from it the fast solves
+    assert Factor(spd(), solves=linsolve.BREAK_EVEN[first] - 1).backend == first
+    assert Factor(spd(), solves=linsolve.BREAK_EVEN[first]).backend == linsolve.SOLVE_ORDER[0]
+    assert PinnedSystem(spd(), [0], solves=1000).factor.backend == "cholespy"
+
+
+def test_break_even_counts_follow_the_measured_table():
+    # the module docstring's rows (factor s, solve of 3 rhs ms) at 50k and 200k vertices:
+    # factor + k solves, cholespy is the cheaper from k = (Δ factor) / (Δ solve)
+    table = linsolve.__doc__.split("system           unknowns")[1].split("(cvxopt")[0]
+    rows = [line.split() for line in table.strip().splitlines()[1:]]
+    assert len(rows) == 9
+    for name, fac, sol in (("cholmod", 3, 7), ("superlu", 4, 8)):
+        counts = [(float(r[5]) - float(r[fac])) / ((float(r[sol]) - float(r[9])) / 1e3)
+                  for r in rows if r[1] != "5k"]
+        counts = [max(c, 0.0) for c in counts]      # < 0: cholespy factors faster too
+        assert min(counts) <= linsolve.BREAK_EVEN[name] <= np.median(counts) + 1, (name, counts)
+
+
+@pytest.mark.parametrize("backend", EVERY_BACKEND)
+def test_zero_columns_are_not_solved(backend):
+    A = spd()
+    b = np.random.default_rng(6).standard_normal((A.shape[0], 3))
+    b[:, 1] = 0.0
+    f = Factor(A, backend=backend)
+    seen = []
+    solve = f._impl.solve
+    f._impl.solve = lambda rhs: seen.append(rhs.shape) or solve(rhs)
+    x = f.solve(b)
+    assert seen == [(A.shape[0], 2)]                      # only the two live columns
+    assert np.all(x[:, 1] == 0.0)
+    np.testing.assert_allclose(x, sla.spsolve(A.tocsc(), b), rtol=1e-10, atol=1e-12)
+    assert np.all(f.solve(np.zeros((A.shape[0], 2))) == 0.0) and len(seen) == 1
 
 
 def test_factor_accepts_dense_and_fortran_rhs():
@@ -308,7 +337,7 @@ _WITHOUT_CVXOPT = textwrap.dedent("""
     a = sp.diags_array([-np.ones(n - 1), 2.0 + np.linspace(0, 1, n), -np.ones(n - 1)],
                        offsets=[-1, 0, 1], format="csc")
     b = np.random.default_rng(0).standard_normal((n, 3))
-    f, g = Factor(a), Factor(a, prefer="solve")
+    f, g = Factor(a), Factor(a, solves=16)
     lap = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
     try:
         Factor(a, backend="cholmod")
@@ -345,6 +374,7 @@ def test_auto_order_without_cholmod(monkeypatch):
     A = spd()
     f = Factor(A)
     assert f.backend == "superlu"
-    assert Factor(A, prefer="solve").backend == "cholespy"
+    assert Factor(A, solves=15).backend == "superlu"
+    assert Factor(A, solves=16).backend == "cholespy"
     b = np.random.default_rng(4).standard_normal(A.shape[0])
     np.testing.assert_allclose(f.solve(b), sla.spsolve(A.tocsc(), b), rtol=1e-10, atol=1e-12)
