@@ -169,8 +169,10 @@ class ArapSolver:
         self.handle_indices = read_handle_indices(handle_indices, self.mesh,
                                                   name=_handles_name)
         self._name = _handles_name
-        self.pins = pins_of(self.mesh, self.handle_indices, name=_handles_name)
         v, f = self.mesh.vertices, self.mesh.faces
+        self.laplacian = lap = cotangent_laplacian(v, f)
+        self.pins = pins_of(self.mesh, self.handle_indices, name=_handles_name,
+                            adjacency=lap)
         n, d = v.shape
         rims = self.energy == "spokes_and_rims"
         self._owners = 3.0 if rims else 2.0
@@ -204,7 +206,6 @@ class ArapSolver:
         self._scatter_p = stacked(mask[pc], pinned.shape[0])         # (d n, p)
         self._gather_f = (self._scatter_f.T / self._owners).tocsr()  # (n_f, d n)
         self._den = np.bincount(f.ravel(), weights=den.ravel(), minlength=n)
-        self.laplacian = lap = cotangent_laplacian(v, f)
         rows_f = lap[free]
         self._L_ff = rows_f[:, free].tocsr()
         self._L_fp = rows_f[:, pinned].tocsr()
