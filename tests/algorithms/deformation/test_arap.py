@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from algorithms.core import Cancelled, DegenerateInputError, InvalidInputError
-from algorithms.core.linsolve import BACKENDS
+from algorithms.core.linsolve import BACKENDS, BREAK_EVEN, available_backends
 from algorithms.core.mesh import Mesh
 from algorithms.deformation import ArapResult, ArapSolver, arap
 from algorithms.deformation.arap import Backend
@@ -304,6 +304,20 @@ def test_bad_meshes():
     with pytest.raises(DegenerateInputError, match="degenerate .* at row 1") as info:
         arap((flat, f), {"indices": [0, 3], "positions": v[[0, 3]]})
     assert info.value.field == "mesh.faces"
+
+
+def test_solver_backend_follows_the_solves_it_serves():
+    # a few iterations: the backend that factors fastest; many (the default): fast solves
+    v, f = two_triangles()
+    installed = available_backends()
+    few = ArapSolver((v, f), [0, 3], solves=BREAK_EVEN[installed[0]] - 1)
+    assert few.factor.backend == installed[0]
+    assert ArapSolver((v, f), [0, 3]).factor.backend == "cholespy"
+    assert ArapSolver((v, f), [0, 3], solves=1, backend="cholespy").factor.backend == \
+        "cholespy"                                          # asked for: taken
+    with pytest.raises(InvalidInputError, match=">= 1") as info:
+        ArapSolver((v, f), [0, 3], solves=0)
+    assert info.value.field == "solves"
 
 
 def test_solver_input_errors():
