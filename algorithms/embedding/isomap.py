@@ -343,18 +343,26 @@ def _geodesic_distances(g: sp.csr_array, *, patched_from: int = _PATCHED_FROM,
                           indices=np.arange(part.size))
         out = np.empty((part.size, m))
         if bnd.size:
-            gb = geo[np.ix_(bnd, inner)]              # (|B|, m)
-            tmp = np.empty((bnd.size, m))
-            to_b = inside[:, part.size:]
-            for i in range(part.size):
-                np.add(gb, to_b[i][:, None], out=tmp)
-                np.minimum.reduce(tmp, axis=0, out=out[i])
+            _min_plus(inside[:, part.size:], geo[np.ix_(bnd, inner)], out)
         else:
             out.fill(np.inf)
         cc = local[part]
         out[:, cc] = np.minimum(out[:, cc], inside[:, :part.size])
         geo[np.ix_(part, inner)] = out
     return geo
+
+
+def _min_plus(a: FloatArray, b: FloatArray, out: FloatArray) -> None:
+    """``out[i, j] = min_k a[i, k] + b[k, j]``: the min-plus product, one ``k`` at a time
+    over the whole of ``out`` (exact: the same sums, and a minimum does not round). On
+    the 5,000-point swiss roll's patches (68 rows, 36 boundary vertices, 4,042 columns)
+    1.6-1.7 ns per sum against 1.9-2.2 row by row; column blocks that stay in the cache
+    were slower still (numpy's strided loops), so the sums are not blocked."""
+    out.fill(np.inf)
+    tmp = np.empty_like(out)
+    for k in range(a.shape[1]):
+        np.add(a[:, k:k + 1], b[k], out=tmp)
+        np.minimum(out, tmp, out=out)
 
 
 def _principal_coordinates(squared: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:

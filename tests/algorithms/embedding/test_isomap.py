@@ -20,7 +20,11 @@ from sklearn.manifold import trustworthiness as sk_trustworthiness
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.graphs import neighbour_graph
 from algorithms.embedding import isomap
-from algorithms.embedding.isomap import _geodesic_distances, _principal_coordinates
+from algorithms.embedding.isomap import (
+    _geodesic_distances,
+    _min_plus,
+    _principal_coordinates,
+)
 
 isomap_module = importlib.import_module("algorithms.embedding.isomap")  # not the function
 
@@ -103,6 +107,17 @@ def test_geodesics_from_a_separator_equal_dijkstra_from_every_point(name: str,
     expected = dijkstra(g, directed=False)
     got = _geodesic_distances(g, patched_from=0, ball=ball)
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
+
+
+def test_min_plus_product_is_exact() -> None:
+    rng = np.random.default_rng(3)
+    a, b = rng.random((7, 5)), rng.random((5, 11))
+    a[2] = np.inf                                           # a row that reaches no boundary
+    b[:, 4] = np.inf                                        # a column no boundary reaches
+    out = np.empty((7, 11))
+    _min_plus(a, b, out)
+    np.testing.assert_array_equal(out, np.min(a[:, :, None] + b[None], axis=1))
+    assert np.isinf(out[2]).all() and np.isinf(out[:, 4]).all()
 
 
 def test_geodesics_when_no_patch_pays_off(monkeypatch: pytest.MonkeyPatch) -> None:
