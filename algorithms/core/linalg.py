@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.types import BoolArray, FloatArray, IntArray
+from algorithms.core.types import BoolArray, FloatArray
 
 __all__ = [
     "RANK_RTOL",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal, cast
 
@@ -21,7 +22,7 @@ from algorithms.core.graphs import (
     neighbour_graph,
 )
 from algorithms.core.params import Ge, PointsLike, validate_params
-from algorithms.core.threads import single_blas_thread
+from algorithms.core.threads import block_workers, single_blas_thread
 from algorithms.core.types import BoolArray, FloatArray, IntArray
 from algorithms.core.validation import as_int, as_points
 from algorithms.embedding._quality import trustworthiness
@@ -336,7 +337,8 @@ def _geodesic_distances(g: sp.csr_array, *, patched_from: int = _PATCHED_FROM,
     members = inner[np.argsort(comp_of[inner], kind="stable")]
     mstart = np.searchsorted(comp_of[members], np.arange(ncomp + 1))
     m = inner.size
-    for c in np.flatnonzero(derive):
+
+    def fill(c: int) -> None:  # the rows of component c (its own rows of geo only)
         part = members[mstart[c]:mstart[c + 1]]
         bnd = bvert[bstart[c]:bstart[c + 1]]
         inside = dijkstra(_induced(g, np.concatenate([part, bnd])), directed=True,
@@ -349,6 +351,20 @@ def _geodesic_distances(g: sp.csr_array, *, patched_from: int = _PATCHED_FROM,
         cc = local[part]
         out[:, cc] = np.minimum(out[:, cc], inside[:, :part.size])
         geo[np.ix_(part, inner)] = out
+
+    derived = np.flatnonzero(derive)
+    sizes = np.diff(mstart)[derived]
+    order = derived.tolist()
+    # the min-plus products release the GIL: the components go to threads when they are
+    # large (each writes its own rows; the results do not depend on the threads)
+    workers = block_workers(int(np.median(sizes)) * m if sizes.size else 0,
+                            int(np.dot(sizes, width[derived])) * m, 2)
+    if workers > 1:
+        with ThreadPoolExecutor(workers) as pool:
+            list(pool.map(fill, order))
+    else:
+        for c in order:
+            fill(c)
     return geo
 
 

@@ -14,11 +14,11 @@ from algorithms.core import (
     InvalidInputError,
     Procrustes,
     homogeneous,
+    linalg,
     numerical_rank,
     polar,
     procrustes,
 )
-from algorithms.core import linalg
 from algorithms.core.linalg import (
     RANK_RTOL,
     RotationFitter,

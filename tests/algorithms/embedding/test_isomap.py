@@ -109,6 +109,16 @@ def test_geodesics_from_a_separator_equal_dijkstra_from_every_point(name: str,
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
 
 
+def test_geodesics_with_components_in_threads(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the threaded fill (large graphs only) gives the same bits as the serial one
+    g = _graphs()["knn"]
+    serial = _geodesic_distances(g, patched_from=0, ball=8)
+    monkeypatch.setattr(isomap_module, "block_workers", lambda *_: 2)
+    threaded = _geodesic_distances(g, patched_from=0, ball=8)
+    np.testing.assert_array_equal(threaded, serial)
+    np.testing.assert_allclose(threaded, dijkstra(g, directed=False), rtol=1e-12, atol=1e-12)
+
+
 def test_min_plus_product_is_exact() -> None:
     rng = np.random.default_rng(3)
     a, b = rng.random((7, 5)), rng.random((5, 11))
