@@ -9,6 +9,7 @@ import json
 import math
 import re
 import typing
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -235,17 +236,58 @@ def test_defaults_satisfy_their_declarations(p: Process) -> None:
             assert d.check(d.default) == d.default, (p.id, name)
 
 
+def _metadata(hint: Any) -> Iterator[Any]:
+    """Every ``Annotated`` metadata object inside a type: its own and its members' (the
+    ``Annotated[...]`` of an ``Annotated[...] | None``, a ``list[Annotated[...]]``)."""
+    if typing.get_origin(hint) is typing.Annotated:
+        base, *meta = typing.get_args(hint)
+        yield from meta
+        yield from _metadata(base)
+    else:
+        for arg in typing.get_args(hint):
+            yield from _metadata(arg)
+
+
+def _schema_items(schema: Any) -> Iterator[tuple[str, Any]]:
+    """Every (keyword, value) of a JSON Schema, nested ones too."""
+    if isinstance(schema, dict):
+        for key, value in schema.items():
+            yield key, value
+            yield from _schema_items(value)
+    elif isinstance(schema, list):
+        for value in schema:
+            yield from _schema_items(value)
+
+
 @pytest.mark.parametrize("p", ALL, ids=_ids)
 def test_entry_restates_nothing(p: Process) -> None:
     """A catalog entry holds only what is the service's: no defaults or descriptions of
     its own for the function's parameters, and caps that are tighter than the signature's
-    bounds (not copies of them)."""
+    bounds (not copies of them). An input type the entry gives (``inputs``) carries no
+    ``Field`` (in a union's members too), no JSON Schema default and no JSON description
+    that repeats the function's; the only default an input's schema shows is the
+    signature's."""
+    from pydantic import WithJsonSchema
     from pydantic.fields import FieldInfo
 
+    docs = numpydoc_entries(inspect.getdoc(p.function), "Parameters")
     for name, hint in p.inputs.items():
-        meta = typing.get_args(hint)[1:] if typing.get_origin(hint) is typing.Annotated else ()
+        meta = list(_metadata(hint))  # Optional[Annotated[...]] too, not only the outer type
         fields = [m for m in meta if isinstance(m, FieldInfo)]
         assert not fields, f"{p.id}: inputs[{name!r}] carries a Field (default/description)"
+        own = plain(docs[name][1]) if name in docs else ""
+        for m in meta:
+            if not isinstance(m, WithJsonSchema) or m.json_schema is None:
+                continue
+            for key, value in _schema_items(m.json_schema):
+                assert key != "default", f"{p.id}: inputs[{name!r}]'s JSON schema has a default"
+                if key == "description" and own:
+                    assert own not in plain(value), \
+                        f"{p.id}: inputs[{name!r}]'s JSON schema restates the description"
+    for name, schema in p.params.model_json_schema()["properties"].items():
+        nested = [v for k, v in _schema_items({k: v for k, v in schema.items()
+                                               if k != "default"}) if k == "default"]
+        assert not nested, f"{p.id}: {name!r} has a default besides the signature's: {nested}"
     refs = numpydoc_references(inspect.getdoc(p.function))
     assert p.reference == references_text(p.function), f"{p.id}: reference restated"
     assert all(r.rstrip(".") in (p.reference or "") for r in refs), p.id
