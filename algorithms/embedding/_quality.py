@@ -76,7 +76,10 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5,
         Their images, row ``i`` for point ``i``.
     n_neighbors : int, default 5
         The neighbourhood size ``k``, clipped to ``(n - 1) // 2`` (the formula needs
-        ``k < n / 2``).
+        ``k < n / 2``). scikit-learn's ``trustworthiness`` refuses such a ``k`` instead
+        (a ``ValueError``); here every method reports a trustworthiness for its
+        ``quality_neighbors`` whatever the number of points, so the largest ``k`` the
+        formula allows is used.
     input_neighbours : ((n, w) float array, (n, w) int array), optional
         The input points' ``w`` nearest neighbours if already known (t-SNE has them):
         squared distances and indices, itself excluded, each row sorted by distance then

@@ -138,6 +138,18 @@ def mds(
     columns (tested), and ``sklearn.manifold.ClassicalMDS``. It is computed from the
     distances here (as for any metric), which costs :math:`O(n^2)` memory.
 
+    **scikit-learn's names.** From scikit-learn 1.8 the flag that chooses metric SMACOF
+    is ``MDS(metric_mds=True)`` (its default), and ``metric`` names the dissimilarity
+    (``"euclidean"``, ``"precomputed"``, ...); ``metric=True``/``False`` still selects
+    metric/non-metric SMACOF there until 1.10, with a deprecation warning. Here
+    ``metric`` keeps the older meaning (True: metric SMACOF; the dissimilarity is always
+    Euclidean) and its default is False, classical MDS alone, while scikit-learn's
+    ``MDS`` runs metric SMACOF by default from a random start (``init="random"`` until
+    1.10). ``metric=True`` is ``MDS(metric_mds=True, init="classical_mds", n_init=1)``
+    with the same ``max_iter=300`` and ``eps=1e-6``: on the iris data and on 80 Gaussian
+    points in 6-D the embeddings agree to 1.5e-14 and the iteration counts are equal
+    (scikit-learn 1.9.1; tested).
+
     References
     ----------
     .. [1] W. S. Torgerson, "Multidimensional scaling: I. Theory and method",

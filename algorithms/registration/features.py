@@ -166,19 +166,21 @@ def orient_normals(points: FloatArray, normals: FloatArray, neighbors: IntArray)
 def _neighbour_pairs(tree: cKDTree, points: FloatArray, radius: float, max_neighbors: int
                      ) -> tuple[IntArray, IntArray, FloatArray, IntArray, IntArray]:
     """The neighbourhoods of Open3D's hybrid search (at most ``max_neighbors`` nearest other
-    points within ``radius``), as unordered pairs and directed entries.
+    points closer than ``radius``), as unordered pairs and directed entries.
 
     Returns ``(i, j, length, rows, pair)``: the unordered pairs ``i < j`` used by some
     neighbourhood with their distances, and for each directed entry (point ``rows[e]`` has
     the neighbour of pair ``pair[e]``) the pair's index. Coincident points (distance 0)
-    are left out: they carry no direction. One dual-tree search finds every pair once.
+    are left out: they carry no direction. A pair exactly ``radius`` apart is left out too,
+    as Open3D's ``SearchHybrid`` leaves it (squared distance strictly below the squared
+    radius). One dual-tree search finds every pair once.
     """
     found = tree.query_pairs(radius * (1 + 1e-9), output_type="ndarray").astype(np.int64)
     i, j = found[:, 0], found[:, 1]
     diff = points[i] - points[j]
-    length = np.sqrt(np.einsum("ij,ij->i", diff, diff))
-    keep = (length > 0.0) & (length <= radius)
-    i, j, length = i[keep], j[keep], length[keep]
+    d2 = np.einsum("ij,ij->i", diff, diff)
+    keep = (d2 > 0.0) & (d2 < radius * radius)
+    i, j, length = i[keep], j[keep], np.sqrt(d2[keep])
     m = i.size
     rows = np.concatenate([i, j])
     pair = np.concatenate([np.arange(m), np.arange(m)])
@@ -275,8 +277,11 @@ def fpfh(
     points : (n, 3) float array
         ``n >= 4`` points.
     radius : float, optional
-        Neighbourhood radius, ``> 0``; 5 × :func:`point_spacing` when omitted (about 80
-        neighbours on a surface, Open3D's tutorial choice of 5 voxels).
+        Neighbourhood radius, ``> 0``: the neighbours are the points strictly closer than
+        it, as in Open3D's ``KDTreeSearchParamHybrid(radius, max_nn)`` (a point exactly
+        ``radius`` away is not one: on a grid of step ``h`` with ``radius = h`` no point
+        has a neighbour). 5 × :func:`point_spacing` when omitted (about 80 neighbours on a
+        surface, Open3D's tutorial choice of 5 voxels).
     max_neighbors : int, default 100
         At most this many nearest points within ``radius``, the point itself counted
         among them, as Open3D's ``KDTreeSearchParamHybrid(radius, max_nn)`` counts it

@@ -44,6 +44,23 @@ def test_metric_refinement_lowers_stress() -> None:
     assert metric.iterations > 0 and classical.iterations == 0
 
 
+@pytest.mark.parametrize("name", ["iris", "gaussian"])
+def test_metric_equals_scikit_learns_smacof_from_the_classical_start(name: str) -> None:
+    # the Notes' "scikit-learn's names": metric=True is MDS(metric_mds=True,
+    # init="classical_mds") with the same iteration limit and stopping rule
+    from sklearn.datasets import load_iris
+    from sklearn.manifold import MDS
+
+    x = load_iris().data if name == "iris" else np.random.default_rng(0).normal(size=(80, 6))
+    ours = mds(x, metric=True)
+    ref = MDS(n_components=2, metric_mds=True, init="classical_mds", n_init=1, max_iter=300,
+              eps=1e-6, normalized_stress=False)
+    emb = ref.fit_transform(x)
+    assert ours.iterations == ref.n_iter_
+    assert ours.stress == pytest.approx(ref.stress_, rel=1e-12)
+    np.testing.assert_allclose(np.abs(ours.embedding), np.abs(emb), atol=1e-12)
+
+
 def test_errors() -> None:
     with pytest.raises(InvalidInputError, match=r"n_components.*<= 3 \(the number of `points`\)"):
         mds(np.eye(3), n_components=4)

@@ -37,6 +37,17 @@ def test_equals_scikit_learn(seed: int, k: int) -> None:
             sk_trustworthiness(x, y, n_neighbors=k), abs=1e-12)
 
 
+def test_too_many_neighbours_are_clipped_where_scikit_learn_refuses() -> None:
+    # the documented difference: k >= n / 2 is clipped to (n - 1) // 2 = 4 for 10 points
+    rng = np.random.default_rng(3)
+    x, y = rng.normal(size=(10, 3)), rng.normal(size=(10, 2))
+    with pytest.raises(ValueError, match="should be less than"):
+        sk_trustworthiness(x, y, n_neighbors=7)
+    assert trustworthiness(x, y, n_neighbors=7) == trustworthiness(x, y, n_neighbors=4)
+    assert trustworthiness(x, y, n_neighbors=4) == pytest.approx(
+        sk_trustworthiness(x, y, n_neighbors=4), abs=1e-12)
+
+
 def test_errors_name_the_input() -> None:
     x = np.zeros((5, 2))
     with pytest.raises(InvalidInputError, match="embedding") as e:

@@ -239,3 +239,17 @@ def test_max_neighbors_counts_the_point_itself():
     assert np.abs(_fpfh(pts, normals, tree, 0.5, most) - free).max() > 1e-6
     # a cap of 1 is the point alone: no neighbour enters, every histogram is empty
     assert not _fpfh(pts, normals, tree, 0.5, 1).any()
+
+
+def test_radius_is_strict_as_open3ds():
+    # Open3D's KDTreeSearchParamHybrid keeps the points strictly closer than the radius
+    # (squared distance below the squared radius); measured with Open3D 0.20 on a grid of
+    # step h with radius h: every feature zero. On a grid of step 0.5 (exact in binary)
+    # the four nearest sit exactly at the radius: no neighbour, as there
+    pts = _grid(5, 0.5)
+    normals = np.tile([0.0, 0.0, 1.0], (25, 1))
+    assert not fpfh(pts, radius=0.5, normals=normals).any()
+    np.testing.assert_array_equal(_o3d_fpfh(pts, normals, 0.5, 100), 0.0)
+    # a hair more and the four are neighbours: every block sums to 200
+    f = fpfh(pts, radius=0.5 * (1 + 1e-12), normals=normals)
+    np.testing.assert_allclose(f.reshape(25, 3, 11).sum(axis=2), 200.0)
