@@ -2890,7 +2890,7 @@ class Embedding(_Family):
             scikit-learn's ``Isomap``.
         neighbors : {"knn", "radius", "all"}, default "knn"
             The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-            nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+            nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
             ``"all"`` every pair (then Isomap is plain classical MDS).
         n_neighbors : int, default 5
             Neighbours per point with ``neighbors="knn"`` (the point itself not counted, as
@@ -3000,7 +3000,7 @@ class Embedding(_Family):
             dimension ``D`` of the points, as in scikit-learn's ``SpectralEmbedding``.
         neighbors : {"knn", "radius", "all"}, default "knn"
             The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-            nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+            nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
             ``"all"`` every pair.
         n_neighbors : int, optional
             Neighbours per point with ``neighbors="knn"``, the point itself counted among them
@@ -3232,7 +3232,7 @@ class Embedding(_Family):
             The dimension ``k`` of the embedding, ``1 <= k <= min(n, D)``.
         neighbors : {"knn", "radius", "all"}, default "knn"
             The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-            nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+            nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
             ``"all"`` every pair.
         n_neighbors : int, optional
             Neighbours per point with ``neighbors="knn"``, the point itself counted among them
@@ -4529,7 +4529,9 @@ class Parameterization(_Family):
             conformal map (farthest boundary pair pinned), ``"harmonic"`` the harmonic map onto
             the circle.
         max_iterations : int, default 100
-            Upper bound on local/global iterations.
+            Upper bound on local/global iterations (libigl's ``ARAPData.max_iter`` is 10, run
+            to the end; ours stops by ``tolerance``, so the larger bound costs nothing where
+            fewer iterations settle; ``max_iterations=10, tolerance=0`` is libigl's run).
         tolerance : float, default 1e-6
             Stop when an iteration lowers the energy by at most this fraction; ``0`` runs all
             ``max_iterations`` (libigl's behaviour), unless the energy reaches zero.
@@ -8600,7 +8602,7 @@ class AsyncEmbedding(_AsyncFamily):
             scikit-learn's ``Isomap``.
         neighbors : {"knn", "radius", "all"}, default "knn"
             The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-            nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+            nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
             ``"all"`` every pair (then Isomap is plain classical MDS).
         n_neighbors : int, default 5
             Neighbours per point with ``neighbors="knn"`` (the point itself not counted, as
@@ -8710,7 +8712,7 @@ class AsyncEmbedding(_AsyncFamily):
             dimension ``D`` of the points, as in scikit-learn's ``SpectralEmbedding``.
         neighbors : {"knn", "radius", "all"}, default "knn"
             The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-            nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+            nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
             ``"all"`` every pair.
         n_neighbors : int, optional
             Neighbours per point with ``neighbors="knn"``, the point itself counted among them
@@ -8942,7 +8944,7 @@ class AsyncEmbedding(_AsyncFamily):
             The dimension ``k`` of the embedding, ``1 <= k <= min(n, D)``.
         neighbors : {"knn", "radius", "all"}, default "knn"
             The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-            nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+            nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
             ``"all"`` every pair.
         n_neighbors : int, optional
             Neighbours per point with ``neighbors="knn"``, the point itself counted among them
@@ -10239,7 +10241,9 @@ class AsyncParameterization(_AsyncFamily):
             conformal map (farthest boundary pair pinned), ``"harmonic"`` the harmonic map onto
             the circle.
         max_iterations : int, default 100
-            Upper bound on local/global iterations.
+            Upper bound on local/global iterations (libigl's ``ARAPData.max_iter`` is 10, run
+            to the end; ours stops by ``tolerance``, so the larger bound costs nothing where
+            fewer iterations settle; ``max_iterations=10, tolerance=0`` is libigl's run).
         tolerance : float, default 1e-6
             Stop when an iteration lowers the energy by at most this fraction; ``0`` runs all
             ``max_iterations`` (libigl's behaviour), unless the energy reaches zero.

@@ -124,7 +124,7 @@ def isomap(
         scikit-learn's ``Isomap``.
     neighbors : {"knn", "radius", "all"}, default "knn"
         The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-        nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+        nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
         ``"all"`` every pair (then Isomap is plain classical MDS).
     n_neighbors : int, default 5
         Neighbours per point with ``neighbors="knn"`` (the point itself not counted, as

@@ -178,7 +178,7 @@ def laplacian_eigenmaps(
         dimension ``D`` of the points, as in scikit-learn's ``SpectralEmbedding``.
     neighbors : {"knn", "radius", "all"}, default "knn"
         The neighbourhood graph: ``"knn"`` joins each point to its ``n_neighbors``
-        nearest (either way round), ``"radius"`` every pair closer than ``radius``,
+        nearest (either way round), ``"radius"`` every pair at most ``radius`` apart,
         ``"all"`` every pair.
     n_neighbors : int, optional
         Neighbours per point with ``neighbors="knn"``, the point itself counted among them

@@ -58,7 +58,9 @@ def arap(
         conformal map (farthest boundary pair pinned), ``"harmonic"`` the harmonic map onto
         the circle.
     max_iterations : int, default 100
-        Upper bound on local/global iterations.
+        Upper bound on local/global iterations (libigl's ``ARAPData.max_iter`` is 10, run
+        to the end; ours stops by ``tolerance``, so the larger bound costs nothing where
+        fewer iterations settle; ``max_iterations=10, tolerance=0`` is libigl's run).
     tolerance : float, default 1e-6
         Stop when an iteration lowers the energy by at most this fraction; ``0`` runs all
         ``max_iterations`` (libigl's behaviour), unless the energy reaches zero.
