@@ -83,6 +83,11 @@ def _body(inputs: bytes) -> bytes:
     return b'{"inputs": ' + inputs + b"}"
 
 
+def _request(**members: Any) -> bytes:
+    """A good alignment.rigid request with the members ``members`` besides its inputs."""
+    return json.dumps({"inputs": {"source": SQ, "target": MOVED}, **members}).encode()
+
+
 def _glb(doc: dict[str, Any], binary: bytes) -> bytes:
     """A GLB packed by hand: header, JSON chunk, binary chunk."""
     text = json.dumps(doc).encode()
@@ -353,6 +358,24 @@ CATALOGUE: list[tuple[str, str, Any, dict[str, str], int, str]] = [
     ("OBJ with a NaN vertex", "parameterization.tutte", *_multipart({"mesh": (
         "nan.obj", b"v 0 0 0\nv nan 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n")}),
      422, "mesh"),
+    # -- no silent acceptance (issue 17, class 9) ---------------------------------------------
+    ("asymmetric distances", "layout.mds", {"distances": [[0, 3, 4], [3.5, 0, 5], [4, 5, 0]]},
+     {}, 422, "distances"),
+    ("nonzero diagonal", "layout.stress", {"distances": [[0, 3, 4], [3, 0.5, 5], [4, 5, 0]]},
+     {}, 422, "distances"),
+    ("a pair given twice with two distances", "layout.mds", {"distance_pairs": [
+        [0, 1, 3.0], [1, 0, 3.5], [0, 2, 4.0], [1, 2, 5.0]]}, {}, 422, "distance_pairs"),
+    ("more components than points", "layout.mds", {"distances": D3, "n_components": 4}, {},
+     422, "n_components"),
+    ("more LLE components than dimensions", "embedding.lle", {"points": [
+        [0, 0], [1, 0.2], [0.3, 1], [1.2, 1.1], [0.5, 0.4], [2, 0.1]], "n_components": 3,
+        "n_neighbors": 3}, {}, 422, "n_components"),
+    ("unknown mode", "alignment.rigid", _request(mode="fast"), {}, 422, "mode"),
+    # -- callbacks (issue 17, class 6): subscriber URLs httpx cannot send to ---------------------
+    ("subscriber URL with a TAB", "alignment.rigid", _request(subscriber={
+        "successUri": "http://127.0.0.1:8000/a\tb"}), {}, 422, "subscriber.successUri"),
+    ("subscriber URL with a bad port", "alignment.rigid", _request(subscriber={
+        "failedUri": "http://127.0.0.1:99999/"}), {}, 422, "subscriber.failedUri"),
     # -- results by reference ------------------------------------------------------------------
     ("href to another host", "parameterization.tutte", {"mesh": {
         "href": "http://example.com/jobs/x/results/mesh"}}, {}, 422, "mesh"),
