@@ -3,7 +3,8 @@
 Generated from the service's catalog by ``python -m service.sdkgen morphserve/_typed.py``
 (``make sdk``); do not edit it by hand. Each method has the signature of its algorithm:
 the same inputs, defaults and choices, so that a mistyped keyword is a ``TypeError`` before
-any request is sent, and the editor shows the documentation. A method starts a job as
+any request is sent (naming the closest keyword there is: "did you mean `max_iterations`?"),
+and the editor shows the documentation. A method starts a job as
 :meth:`Client.execute` does (inputs left at their defaults are not sent) and returns the
 :class:`Job` (with :class:`AsyncClient`: an awaitable of the :class:`AsyncJob`).
 """
@@ -12,7 +13,10 @@ any request is sent, and the editor shows the documentation. A method starts a j
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+import difflib
+import functools
+import inspect
+from collections.abc import Callable, Iterable, Mapping
 from typing import TYPE_CHECKING, Any, Literal, TypeAlias, cast
 
 if TYPE_CHECKING:
@@ -56,11 +60,61 @@ def _changed(inputs: dict[str, Any], defaults: dict[str, Any]) -> dict[str, Any]
     }
 
 
+#: The options of every execution, after a method's inputs.
+_OPTIONS = ("wait", "outputs", "idempotency_key", "time_limit")
+
+
+def _unknown_keyword_message(method: str, name: str, valid: list[str]) -> str:
+    """Python's refusal of a keyword a method does not take, with the closest it does take
+    and the inputs there are (as the service's 422 tells an unknown input)."""
+    guess = difflib.get_close_matches(name, valid, n=1, cutoff=0.6)
+    hint = f"; did you mean `{guess[0]}`?" if guess else "."
+    inputs = ", ".join(f"`{v}`" for v in valid if v not in _OPTIONS)
+    return (f"{method}() got an unexpected keyword argument {name!r}{hint} "
+            f"The inputs are {inputs}.")
+
+
+def _refusing_unknown_keywords(method: Callable[..., Any]) -> Callable[..., Any]:
+    """``method`` (a sync or async one), refusing a keyword it does not take with
+    :func:`_unknown_keyword_message`: a ``TypeError`` before any request. The signature and
+    docstring stay the method's (``functools.wraps``)."""
+    keywords = [name for name, p in inspect.signature(method).parameters.items()
+                if name != "self" and p.kind in (inspect.Parameter.POSITIONAL_OR_KEYWORD,
+                                                 inspect.Parameter.KEYWORD_ONLY)]
+    known = frozenset(keywords)
+
+    def check(given: Mapping[str, Any]) -> None:
+        for name in given:
+            if name not in known:
+                raise TypeError(_unknown_keyword_message(method.__qualname__, name, keywords))
+
+    if inspect.iscoroutinefunction(method):
+        @functools.wraps(method)
+        async def refusing_async(self: Any, *args: Any, **kwargs: Any) -> Any:
+            check(kwargs)
+            return await method(self, *args, **kwargs)
+
+        return refusing_async
+
+    @functools.wraps(method)
+    def refusing(self: Any, *args: Any, **kwargs: Any) -> Any:
+        check(kwargs)
+        return method(self, *args, **kwargs)
+
+    return refusing
+
+
 class _Family:
     """The processes of one family, called through a :class:`Client`."""
 
     def __init__(self, client: Client) -> None:
         self._client = client
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        for name, value in list(vars(cls).items()):
+            if not name.startswith("_") and inspect.isfunction(value):
+                setattr(cls, name, _refusing_unknown_keywords(value))
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} of {self._client!r}>"
@@ -71,6 +125,12 @@ class _AsyncFamily:
 
     def __init__(self, client: AsyncClient) -> None:
         self._client = client
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        for name, value in list(vars(cls).items()):
+            if not name.startswith("_") and inspect.isfunction(value):
+                setattr(cls, name, _refusing_unknown_keywords(value))
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} of {self._client!r}>"

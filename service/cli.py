@@ -276,20 +276,25 @@ def _print_json(document: Any) -> None:
     print(json.dumps(document))
 
 
+#: ``--output`` suffixes written by :meth:`Results.save` (anything else: the JSON document).
+SAVED_SUFFIXES = (".glb", ".npy", *(s for s in GEOMETRY_FILES if s != ".glb"))
+
+
 def _put_results(results: Results, output: Path | None) -> None:
     """Print the results as JSON, or write them to ``output`` in the format its suffix names:
-    .glb (the result's geometry), .npy (the one array output), else JSON."""
+    .glb (the result's geometry as glTF), .ply, .obj, .stl, .off (its mesh or points, as the
+    SDK's ``Results.save`` writes them), .npy (the one array output), else JSON."""
     if output is None:
         print(json.dumps(results.to_json()))
         return
     try:
-        if output.suffix.lower() in (".glb", ".npy"):
+        if output.suffix.lower() in SAVED_SUFFIXES:
             results.save(output)
         else:
             output.write_text(json.dumps(results.to_json()) + "\n", encoding="utf-8")
     except OSError as error:
         raise MorphserveError(f"cannot write {output}: {error.strerror or error}") from None
-    except ValueError as error:  # .npy of results with several arrays
+    except ValueError as error:  # .npy of several arrays, a mesh file of no geometry
         raise UsageError(f"{error} (--output FILE.json writes them all)") from None
     print(f"results written to {output}", file=sys.stderr)
 
@@ -653,7 +658,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     execute.add_argument(
         "--output", type=Path, metavar="FILE", help="with --wait: write the results here: "
-        ".glb for the result's geometry (glTF binary), .npy for its one array, else JSON"
+        ".glb for the result's geometry (glTF binary), .ply, .obj, .stl or .off for its mesh "
+        "or points, .npy for its one array, else JSON"
     )
     execute.add_argument("--no-progress", action="store_true", help="with --wait: no progress bar")
     execute.add_argument(
@@ -688,7 +694,8 @@ def build_parser() -> argparse.ArgumentParser:
         sub.add_argument("job", metavar="JOB")
         if name == "results":
             sub.add_argument("--output", type=Path, metavar="FILE", help="write the results "
-                             "here: .glb (geometry), .npy (the one array) or JSON")
+                             "here: .glb (geometry), .ply, .obj, .stl, .off (mesh or points), "
+                             ".npy (the one array) or JSON")
     return parser
 
 

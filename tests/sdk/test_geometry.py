@@ -433,8 +433,10 @@ def test_meshes_from_every_library_give_the_same_job(client: Client, tmp_path: P
                                    err_msg=type(given).__name__)
     mesh = reference.to_trimesh()
     assert isinstance(mesh, trimesh.Trimesh) and len(mesh.faces) == len(faces)
-    reference.save(tmp_path / "flat.obj")
-    assert len(trimesh.load(tmp_path / "flat.obj", process=False).faces) == len(faces)
+    for suffix in (".ply", ".obj", ".stl", ".off"):  # the result mesh, through trimesh
+        reference.save(tmp_path / f"flat{suffix}")
+        back = trimesh.load(tmp_path / f"flat{suffix}", process=False)
+        assert len(back.faces) == len(faces), suffix
 
 
 @pytest.mark.e2e
@@ -460,6 +462,12 @@ def test_async_client_takes_objects_and_paths(server: Any, tmp_path: Path) -> No
             b = await (await client.execute("parameterization.tutte", mesh=tmp_path / "grid.ply"))
             with pytest.raises(NoSuchFile):
                 await client.execute("parameterization.tutte", mesh="no-such-mesh.ply")
+            job = await client.execute("parameterization.tutte", mesh=tmp_path / "grid.ply",
+                                       wait=30)
+            for suffix in (".ply", ".obj", ".stl", ".off"):
+                saved = await job.save(tmp_path / f"flat{suffix}")
+                back = trimesh.load(saved, process=False)
+                assert len(back.faces) == len(faces), suffix
             return a, b
 
     a, b = asyncio.run(scenario())

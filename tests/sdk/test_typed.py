@@ -112,15 +112,45 @@ class _Recorder:
             "type": "process"})
 
 
+#: The inputs of registration.icp, as the refusal of a mistyped keyword lists them.
+_ICP_INPUTS = ", ".join(f"`{name}`" for name in registry["registration.icp"].params.model_fields)
+
+
 def test_a_mistyped_keyword_is_a_type_error_before_any_request() -> None:
+    """Python's TypeError, naming the closest keyword there is (as the service's 422 names
+    the closest input) and listing the inputs; nothing is sent."""
     fake = _Recorder()
     with Client("http://morph.test", transport=httpx.MockTransport(fake)) as client:
-        with pytest.raises(TypeError, match="max_iter"):
+        with pytest.raises(TypeError) as mistyped:
             client.registration.icp([[0, 0]], [[0, 0]], max_iter=5)  # type: ignore[call-arg]
+        assert str(mistyped.value) == (
+            "Registration.icp() got an unexpected keyword argument 'max_iter'; did you mean "
+            f"`max_iterations`? The inputs are {_ICP_INPUTS}.")
+        with pytest.raises(TypeError, match=r"'wiat'; did you mean `wait`\?"):  # an option
+            client.registration.icp([[0, 0]], [[0, 0]], wiat=5)  # type: ignore[call-arg]
+        with pytest.raises(TypeError, match=r"argument 'zzz'\. The inputs are `source`, "):
+            client.registration.icp([[0, 0]], [[0, 0]], zzz=5)  # type: ignore[call-arg]
         with pytest.raises(TypeError, match="target"):
             client.registration.icp([[0, 0]])  # type: ignore[call-arg]
         with pytest.raises(TypeError):  # options are keyword-only
             client.registration.icp([[0, 0]], [[0, 0]], "rigid")  # type: ignore[misc]
+    assert fake.requests == []
+
+
+def test_a_mistyped_keyword_is_a_type_error_before_any_request_async() -> None:
+    fake = _Recorder()
+
+    async def main() -> None:
+        async with AsyncClient("http://morph.test", transport=httpx.MockTransport(fake)) as c:
+            with pytest.raises(TypeError) as mistyped:
+                await c.registration.icp([[0, 0]], [[0, 0]], max_iter=5)  # type: ignore[call-arg]
+            assert str(mistyped.value) == (
+                "AsyncRegistration.icp() got an unexpected keyword argument 'max_iter'; did "
+                f"you mean `max_iterations`? The inputs are {_ICP_INPUTS}.")
+            with pytest.raises(TypeError, match="target"):
+                await c.registration.icp([[0, 0]])  # type: ignore[call-arg]
+
+    asyncio.run(main())
     assert fake.requests == []
 
 

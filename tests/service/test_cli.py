@@ -503,6 +503,31 @@ def test_results_prints_or_writes_json(run: Run, service: Canned, tmp_path: Path
     assert code == 1 and err.startswith(f"error: cannot write {tmp_path / 'no' / 'r.json'}")
 
 
+def test_output_in_a_mesh_format_writes_the_geometry(run: Run, service: Canned,
+                                                      tmp_path: Path) -> None:
+    """``--output`` of .ply, .obj, .stl or .off writes the result's mesh as the SDK's
+    ``Results.save`` does (not the JSON document under a mesh file's name); results with no
+    mesh or points are a usage error naming the way out."""
+    import trimesh
+
+    mesh = {"vertices": [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
+            "faces": [[0, 1, 2], [1, 3, 2]]}
+    service.routes["GET /jobs/job-1/results"] = [ok({"mesh": mesh, "rmse": 0.0})]
+    for suffix in (".ply", ".obj", ".stl", ".off"):
+        target = tmp_path / f"out{suffix}"
+        code, _, err = run("results", "job-1", "--output", str(target))
+        assert code == 0, err
+        back = trimesh.load(target, process=False)
+        assert len(back.faces) == 2, suffix
+    code, _, err = run("execute", "alignment.rigid", "--param", "source=[[0]]", "--wait",
+                       "--no-progress", "--output", str(tmp_path / "moved.ply"))
+    assert code == 0 and len(trimesh.load(tmp_path / "moved.ply", process=False).faces) == 2
+    service.routes["GET /jobs/job-1/results"] = [ok(RESULTS)]
+    code, _, err = run("results", "job-1", "--output", str(tmp_path / "none.ply"))
+    assert code == 2 and "These results hold no mesh or points" in err
+    assert "(--output FILE.json writes them all)" in err and not (tmp_path / "none.ply").exists()
+
+
 def test_dismiss(run: Run, service: Canned) -> None:
     code, out, _ = run("dismiss", "job-1")
     assert (code, out) == (0, "job-1 dismissed\n")
