@@ -19,6 +19,11 @@ alternatives overlap, so that an ordinary value matches two of them and is refus
 The standard lists *kinds* of value there; where they overlap a value of the overlap is
 still of that kind. The definitions below say "any of these kinds".
 
+Every document is also checked against the standard's own file for it, vendored with its
+licence in ``standard_schemas/`` and read by :mod:`tests.service.ogc.vendored`, which lists
+where it relaxes those files and why (the same overlaps): :func:`errors` answers both, so
+a transcription error here cannot let a document through that the standard refuses.
+
 The standard's documents are open: members it does not name are allowed, except in the
 ``schema`` object of an input or output description, which admits only the OpenAPI 3.0
 schema keywords it lists. Where a member is named, ``null`` is never one of its values.
@@ -33,6 +38,8 @@ from functools import cache
 from typing import Any
 
 import jsonschema_rs
+
+from tests.service.ogc import vendored
 
 __all__ = ["DEFINITIONS", "validator", "errors"]
 
@@ -288,6 +295,10 @@ def validator(name: str) -> Any:
 
 def errors(name: str, document: Any) -> list[str]:
     """What makes ``document`` invalid as the standard's document ``name``: one line per
-    error, ``path: message``; empty when it is valid."""
-    return [f"{'/'.join(map(str, e.instance_path))}: {e.message}"
-            for e in validator(name).iter_errors(document)]
+    error, ``path: message``; empty when it is valid. The document is checked against the
+    definition here and against the standard's own file for it, vendored in
+    ``standard_schemas/`` (:mod:`tests.service.ogc.vendored`, which relaxes the files'
+    broken ``oneOf``\\ s as the definitions here do): valid means valid under both."""
+    own = [f"{'/'.join(map(str, e.instance_path))}: {e.message}"
+           for e in validator(name).iter_errors(document)]
+    return own + vendored.errors(name, document)

@@ -6,7 +6,8 @@ The tests port the OGC executable test suite of OGC API – Processes – Part 1
 They validate the service's documents with ``jsonschema_rs`` against our own JSON Schemas of
 what the standard requires of each document (:mod:`tests.service.ogc.schemas`, which names
 the requirement and the standard's schema behind each, and says where the standard's schema
-is broken as written and what it means there).
+is broken as written and what it means there), and against the standard's schema files
+themselves, vendored with their licence in ``standard_schemas/`` (:mod:`tests.service.ogc.vendored`).
 
 The suite runs its jobs on an "echo" process with a plain string input. The service has none;
 its tests run ``alignment.rigid`` on a hand-computed case instead: three points moved by a
