@@ -366,3 +366,151 @@ def test_up_axis_turns_the_view(browser: Any, server: LiveServer, shot: Any) -> 
     assert z_up["n"] > 0 and z_up["box"] != y_up["box"]
     Select(browser.find_element("id", "up-axis")).select_by_value("y")
     assert canvas(browser) == y_up
+
+
+def _scan_ply(path: Path, points: np.ndarray) -> None:
+    """A point cloud (no faces) written as PLY by trimesh, as a scanner's export is."""
+    import trimesh
+
+    trimesh.PointCloud(points).export(path)
+
+
+_DROP = """
+const [selector, name, b64, done] = arguments;
+const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+const data = new DataTransfer();
+data.items.add(new File([bytes], name, {type: 'application/octet-stream'}));
+const zone = document.querySelector(selector);
+for (const type of ['dragenter', 'dragover', 'drop']) {
+  zone.dispatchEvent(new DragEvent(type, {dataTransfer: data, bubbles: true, cancelable: true}));
+}
+done(true);
+"""
+
+
+def test_register_two_scans_dropped_and_picked(browser: Any, server: LiveServer, http: Any,
+                                               shot: Any, tmp_path: Path) -> None:
+    """The acceptance's "register two scans without writing code": the source scan dropped
+    on its input (drag and drop), the target chosen with the file picker, both PLY point
+    clouds sent as multipart; the fit is the known motion and the moved source lies over the
+    target on the canvas."""
+    import base64
+
+    # a scanned patch of a curved surface, sampled at random, and its copy moved a little
+    # (as two scans of one surface from nearby poses): ICP's basin of convergence
+    x, y = np.random.default_rng(7).uniform(-1, 1, size=(2, 800))
+    source = np.column_stack([x, y, 0.3 * np.sin(3 * x) * np.cos(2 * y) + 0.2 * x ** 2])
+    angle = np.radians(3.0)
+    rotation = np.array([[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0],
+                         [0, 0, 1]])
+    shift = np.array([0.05, -0.03, 0.02])
+    target = source @ rotation.T + shift
+    _scan_ply(tmp_path / "scan-a.ply", source)
+    _scan_ply(tmp_path / "scan-b.ply", target)
+
+    open_workbench(browser, server, "registration.icp")
+    browser.execute_async_script(_DROP, '[data-input="source"] .drop', "scan-a.ply",
+                                 base64.b64encode((tmp_path / "scan-a.ply").read_bytes()).decode())
+    browser.find_element("id", "in-target-file").send_keys(str(tmp_path / "scan-b.ply"))
+    for name, file in (("source", "scan-a.ply"), ("target", "scan-b.ply")):
+        assert file in browser.find_element(
+            "css selector", f'[data-input="{name}"] .file-name').text, name
+    job = run(browser)
+    shot()
+    result = http.get(f"/jobs/{job}/results").json()
+    transform = np.asarray(result["transform"], dtype=float)
+    np.testing.assert_allclose(transform[:3, :3], rotation, atol=1e-6)
+    np.testing.assert_allclose(transform[:3, 3], shift, atol=1e-6)
+    assert result["rmse"] < 1e-6
+    names = layers(browser)
+    assert {"source (moved)", "target"} <= set(names), names
+    boxes = {}
+    for name in ("source (moved)", "target"):
+        for other in names:
+            set_layer(browser, other, other == name)
+        boxes[name] = canvas(browser)
+        assert boxes[name]["n"] > 0, name
+    assert _overlap(boxes["source (moved)"]["box"], boxes["target"]["box"]) > 0.95
+    assert browser_errors(browser) == []
+
+
+def test_search_processes_by_name_and_family(browser: Any, server: LiveServer,
+                                             http: Any) -> None:
+    """The process picker: words typed in the search box keep the processes whose id, title
+    or keywords hold them all; a family keeps that family's; choosing one loads its form."""
+    from selenium.webdriver.support.ui import Select
+
+    catalog = http.get("/processes", params={"limit": 1000}).json()["processes"]
+    listed = "return [...document.querySelectorAll('#process option')].map((o) => o.value)"
+    browser.get(f"{server.url}/ui")
+    wait_until(browser, "return document.body.dataset.ready")
+    assert sorted(browser.execute_script(listed)) == sorted(p["id"] for p in catalog)
+
+    search = browser.find_element("id", "search")
+    search.send_keys("icp")
+    found = browser.execute_script(listed)
+    assert "registration.icp" in found
+    assert all("icp" in (p["id"] + " " + p["title"] + " " + " ".join(p.get("keywords", [])))
+               .lower() for p in catalog if p["id"] in found), found
+    assert len(found) < len(catalog)
+
+    search.clear()
+    search.send_keys(" ")  # an input event with an empty query: everything again
+    Select(browser.find_element("id", "family")).select_by_value("embedding")
+    found = browser.execute_script(listed)
+    assert found and sorted(found) == sorted(p["id"] for p in catalog
+                                             if p["id"].startswith("embedding."))
+    Select(browser.find_element("id", "process")).select_by_value("embedding.tsne")
+    wait_until(browser, "return window.workbench.state.process?.id === 'embedding.tsne'", 10)
+    assert browser.find_element("css selector", '[data-input="points"]').is_displayed()
+
+
+_FIELDS = """
+return [...document.querySelectorAll('#form [data-input]')].map((box) => {
+  const c = box.querySelector('#in-' + CSS.escape(box.dataset.input));
+  return {name: box.dataset.input, kind: box.dataset.kind, tag: c && c.tagName,
+          type: c && c.type, min: c && c.getAttribute('min'), max: c && c.getAttribute('max'),
+          value: c && (c.type === 'checkbox' ? c.checked : c.value),
+          options: c && c.tagName === 'SELECT' ? [...c.options].map((o) => o.value) : null};
+});
+"""
+
+
+@pytest.mark.parametrize("process", ["registration.icp", "embedding.tsne",
+                                     "parameterization.tutte", "clustering.spectral"])
+def test_the_form_follows_the_schema(browser: Any, server: LiveServer, http: Any,
+                                     process: str) -> None:
+    """The form of a process is its description's input schemas: a choice is a select of
+    exactly its values, a number field carries the schema's bounds, and every field starts
+    at the input's default."""
+    open_workbench(browser, server, process)
+    inputs = http.get(f"/processes/{process}").json()["inputs"]
+    fields = {f["name"]: f for f in browser.execute_script(_FIELDS)}
+    assert set(fields) == set(inputs)
+    seen = set()
+    for name, field in fields.items():
+        schema = inputs[name]["schema"]
+        default = schema.get("default")
+        if "enum" in schema:
+            seen.add("enum")
+            assert field["tag"] == "SELECT", name
+            values = [json.loads(v) for v in field["options"] if v != ""]
+            assert values == schema["enum"], name
+            if default is not None:
+                assert json.loads(field["value"]) == default, name
+        elif schema.get("type") in ("number", "integer"):
+            seen.add("number")
+            assert (field["tag"], field["type"]) == ("INPUT", "number"), name
+            for bound, attr in (("minimum", "min"), ("maximum", "max")):
+                if bound in schema:
+                    seen.add(bound)
+                    assert float(field[attr]) == schema[bound], (name, bound)
+                else:
+                    assert field[attr] is None, (name, bound)
+            if default is not None:
+                assert float(field["value"]) == default, name
+        elif schema.get("type") == "boolean":
+            assert field["value"] is bool(default), name
+    assert seen & {"enum", "number"}, f"{process} has no choice nor number to check"
+    if process == "registration.icp":  # bounded numbers (max_iterations >= 1, ...) and choices
+        assert {"enum", "number", "minimum"} <= seen, seen
