@@ -41,6 +41,7 @@ from ._exceptions import (
     JobFailed,
     MorphserveError,
     ProtocolError,
+    ResultNotReady,
     TransportError,
     WaitTimeout,
     problem_from_response,
@@ -102,6 +103,15 @@ class _Submitted:
     status: JobStatus | None = None
     results: Results | None = None
 
+
+
+def _waits_hint(error: ResultNotReady, call: str) -> ResultNotReady:
+    """The service's "not ready" with what a Python caller does instead of polling: the
+    same problem, its detail ending with the call that waits; the service's own error is
+    its ``__cause__`` (what the CLI prints)."""
+    return ResultNotReady(error.status, error.type, error.title,
+                          f"{error.detail} ({call} waits for it)".lstrip(),
+                          errors=error.errors, instance=error.instance, response=error.response)
 
 def _document(response: httpx.Response) -> dict[str, Any]:
     """The JSON object of a success; the problem it stands for, raised, otherwise."""
@@ -574,7 +584,10 @@ class Job(_JobBase):
         :class:`JobDismissed` for a job that ended otherwise. ``results().save("out.glb")``
         writes the result's geometry (see :meth:`Results.save`).
         """
-        results = self._client._run(self._protocol.results(self))
+        try:
+            results = self._client._run(self._protocol.results(self))
+        except ResultNotReady as error:
+            raise _waits_hint(error, "job.result()") from error
         results._download = self._download
         return results
 
@@ -645,7 +658,10 @@ class AsyncJob(_JobBase):
 
     async def results(self) -> Results:
         """The outputs of the successful job (see :meth:`Job.results`)."""
-        return await self._client._run(self._protocol.results(self))
+        try:
+            return await self._client._run(self._protocol.results(self))
+        except ResultNotReady as error:
+            raise _waits_hint(error, "await job.result()") from error
 
     async def result(self, timeout: float | None = None) -> Results:
         """The outputs, once the job has ended (see :meth:`Job.result`); ``await job`` is

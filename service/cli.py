@@ -538,7 +538,12 @@ def _status(args: argparse.Namespace) -> int:
 
 def _results(args: argparse.Namespace) -> int:
     with connect(args.url) as client:
-        _put_results(client.job(args.job).results(), args.output)
+        try:
+            results = client.job(args.job).results()
+        except ResultNotReady as error:  # the service's text, not the SDK's job.result() hint
+            cause = error.__cause__
+            raise (cause if isinstance(cause, ResultNotReady) else error) from None
+        _put_results(results, args.output)
     return 0
 
 

@@ -25,6 +25,7 @@ from morphserve import (
     NoSuchJob,
     NoSuchProcess,
     QueueFull,
+    ResultNotReady,
     TransportError,
     WaitTimeout,
 )
@@ -93,6 +94,19 @@ def test_execute_with_wait_keeps_the_results(run: Any, server: FakeServer) -> No
     run(scenario)
     assert len(server.requests) == 1
     assert server.requests[0].headers["Prefer"] == "wait=5, arrays=binary"
+
+
+def test_results_before_the_end_name_the_call_that_waits(run: Any, server: FakeServer) -> None:
+    server.done_within_wait = False
+
+    async def scenario(client: AsyncClient) -> None:
+        job = await client.execute("alignment.rigid", wait=0, source=[[0, 0]])
+        server.jobs[job.id]["step"] = 2
+        with pytest.raises(ResultNotReady,
+                           match=r"is running.*\(await job\.result\(\) waits for it\)"):
+            await job.results()
+
+    run(scenario)
 
 
 def test_wait_raises_job_failed(run: Any, server: FakeServer) -> None:

@@ -376,7 +376,7 @@ def test_execute_with_wait_falls_back_to_async(client: Client, server: FakeServe
     job = client.execute("alignment.rigid", wait=0, source=[[0, 0]])
     assert server.requests[0].headers["Prefer"] == "wait=0, arrays=binary"
     assert job.id == "job-1"
-    with pytest.raises(ResultNotReady, match="job-1 is running"):
+    with pytest.raises(ResultNotReady, match=r"job-1 is running.*\(job\.result\(\) waits for it\)"):
         server.jobs["job-1"]["step"] = 2
         job.results()
 

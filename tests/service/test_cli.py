@@ -615,6 +615,7 @@ def test_results_not_ready_is_not_a_missing_job(run: Run, service: Canned) -> No
         problem(404, "result-not-ready", "Result not ready", "The job is running.")]
     code, _, err = run("results", "job-1")
     assert code == 1 and "Result not ready" in err
+    assert "job.result()" not in err  # the SDK's hint is for Python callers, not the shell
 
 
 def test_the_exit_statuses_are_documented() -> None:
