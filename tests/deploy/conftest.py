@@ -31,6 +31,11 @@ ROOT = Path(__file__).resolve().parents[2]
 COMPOSE = ROOT / "docker" / "compose.yaml"
 BASE_IMAGE = "docker.io/library/python:3.11-slim-bookworm"
 IMAGE = "localhost/morphserve:pytest"
+#: the stack's MORPHSERVE_FORWARDED_ALLOW_IPS, passed through compose.yaml: the private ranges
+#: that podman's (10.88.0.0/16, 10.89.x.0/24) and Docker's (172.17.0.0/16 ...) networks use,
+#: so that a client of the published port, which the API sees as the network's gateway, is
+#: believed as a proxy (tests/deploy/test_stack.py)
+PROXY_NETWORKS = "10.0.0.0/8,172.16.0.0/12,192.168.0.0/16"
 # `--format docker`: podman's default OCI format has no HEALTHCHECK (podman drops it, warning)
 BUILD = ["build", "--format", "docker", "-f", "docker/Dockerfile", "-t", IMAGE, "."]
 
@@ -214,7 +219,8 @@ class Stack:
 
 @pytest.fixture(scope="session")
 def stack(image: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Stack]:
-    stack = Stack(tmp_path_factory.mktemp("stack"), image)
+    stack = Stack(tmp_path_factory.mktemp("stack"), image,
+                  env={"MORPHSERVE_FORWARDED_ALLOW_IPS": PROXY_NETWORKS})
     with stack.running() as seconds:
         FIGURES["stack up to ready with 2 workers (s)"] = round(seconds, 1)
         yield stack

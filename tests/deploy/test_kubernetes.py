@@ -221,3 +221,17 @@ def test_no_manifest_exposes_a_port_outside_the_cluster() -> None:
     for _, doc in documents():
         if doc["kind"] == "Service":
             assert doc["spec"].get("type", "ClusterIP") == "ClusterIP", doc["metadata"]["name"]
+
+
+def test_api_carries_the_proxy_setting_with_a_value_the_service_accepts() -> None:
+    """Behind an ingress the API is reached from the ingress controller's pods: the manifest
+    carries MORPHSERVE_FORWARDED_ALLOW_IPS, the knob to set to their network (as compose.yaml
+    passes it through), with a value the service's settings accept."""
+    from service.settings import Settings
+
+    env = {e["name"]: e.get("value") for e in container("morphserve-api")["env"]}
+    value = env["MORPHSERVE_FORWARDED_ALLOW_IPS"]
+    assert Settings(forwarded_allow_ips=value).forwarded_allow_ips == value
+    compose = yaml.safe_load((ROOT / "docker" / "compose.yaml").read_text())
+    assert {"MORPHSERVE_FORWARDED_ALLOW_IPS", "MORPHSERVE_PUBLIC_URL"} <= set(
+        compose["services"]["api"]["environment"])

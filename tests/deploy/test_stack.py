@@ -9,6 +9,7 @@ passes. Every port is on 127.0.0.1, and nothing reaches outside the machine.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 import statistics
@@ -22,7 +23,7 @@ import numpy as np
 import pytest
 
 from service import catalog
-from tests.deploy.conftest import FIGURES, ROOT, Stack, podman, wait_ready
+from tests.deploy.conftest import FIGURES, PROXY_NETWORKS, ROOT, Stack, podman, wait_ready
 from tests.live import LiveServer, example, execute, free_port, wait_for_status
 
 pytestmark = [pytest.mark.container, pytest.mark.e2e, pytest.mark.timeout(600)]
@@ -87,6 +88,44 @@ def lone_container(image: str) -> Iterator[tuple[str, str]]:
         yield name, url
     finally:
         podman("rm", "-f", "-v", "-t", "0", name, check=False)  # -v: its anonymous /data
+
+
+#: the digest of every module of the image's packages, as the image's Python finds them
+DIGESTS = """
+import hashlib, json, pathlib, service
+site = pathlib.Path(service.__file__).parents[1]
+print(json.dumps({p.relative_to(site).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+                  for pkg in ("algorithms", "service", "morphserve") for p in (site / pkg).rglob("*.py")}))
+"""
+
+
+def test_the_image_holds_the_working_trees_code(image: str) -> None:
+    """The image is the working tree's: every module of its three packages is the tree's, and
+    none is missing or extra. (A build that takes an old layer for the new wheel's install
+    would run every test below on old code.)"""
+    inside = json.loads(podman("run", "--rm", "--entrypoint", "python", image, "-c",
+                               DIGESTS).stdout)
+    tree = {p.relative_to(ROOT).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for pkg in ("algorithms", "service", "morphserve") for p in (ROOT / pkg).rglob("*.py")}
+    assert sorted(set(inside) ^ set(tree)) == [], "modules only in the image or only in the tree"
+    stale = sorted(path for path in tree if inside[path] != tree[path])
+    assert not stale, f"the image holds other versions of {len(stale)} modules: {stale[:10]}"
+
+
+#: morphserve's licence text as the image's installed distribution carries it
+OWN_LICENCE = """
+import importlib.metadata as m
+d = m.distribution("morphserve")
+print("".join(f.read_text() for f in d.files or ()
+               if f.name == "LICENSE" and ".dist-info/" in f.as_posix()), end="")
+"""
+
+
+def test_the_image_carries_morphserves_own_licence(image: str) -> None:
+    """The MIT licence of morphserve itself ships in the image (in the wheel's metadata),
+    beside the licence texts of what it bundles."""
+    inside = podman("run", "--rm", "--entrypoint", "python", image, "-c", OWN_LICENCE).stdout
+    assert inside == (ROOT / "LICENSE").read_text()
 
 
 def test_image_runs_as_a_non_root_user(image: str, lone_container: tuple[str, str]) -> None:
@@ -206,6 +245,38 @@ def test_readme_job_latency_stack_vs_embedded(stack: Stack, embedded: LiveServer
                 times.append(time.monotonic() - start)
         FIGURES[f"diagnostics.sleep(0) on a worker, median ms ({name})"] = round(
             statistics.median(times) * 1000, 1)
+
+
+#: what a proxy in front of the published port sends
+FORWARDED = {"X-Forwarded-Proto": "https", "X-Forwarded-Host": "proxy.example",
+             "X-Forwarded-Prefix": "/morphserve"}
+
+
+def landing_links(url: str) -> list[str]:
+    """The hrefs of the landing page, fetched from ``url`` as a proxy would."""
+    response = httpx.get(url + "/", params={"f": "json"}, headers=FORWARDED, timeout=30)
+    assert response.status_code == 200, response.text
+    links = [link["href"] for link in response.json()["links"]]
+    assert links
+    return links
+
+
+def test_a_proxy_is_believed_only_when_the_stack_is_told_so(
+        stack: Stack, lone_container: tuple[str, str]) -> None:
+    """A client of the published port reaches the API from the network's gateway, never from
+    127.0.0.1: with the default MORPHSERVE_FORWARDED_ALLOW_IPS (the lone container) its
+    X-Forwarded-* headers are ignored; compose.yaml passes the setting from the environment
+    of `up` (the stack was started with PROXY_NETWORKS), and then they are believed."""
+    name, url = lone_container
+    assert all(href.startswith(url + "/") for href in landing_links(url))
+    believed = landing_links(stack.url)
+    assert all(href.startswith("https://proxy.example/morphserve/") for href in believed), believed
+    (api,) = stack.containers("api")
+    assert podman("exec", api, "printenv", "MORPHSERVE_FORWARDED_ALLOW_IPS").stdout.strip() == (
+        PROXY_NETWORKS)
+    # MORPHSERVE_PUBLIC_URL, not set for `up`, is left unset, not set empty (which the
+    # service would refuse at start-up)
+    assert podman("exec", api, "printenv", "MORPHSERVE_PUBLIC_URL", check=False).returncode == 1
 
 
 def test_killing_a_worker_mid_job_loses_no_job(stack: Stack) -> None:
