@@ -104,7 +104,6 @@ class _Submitted:
     results: Results | None = None
 
 
-
 def _waits_hint(error: ResultNotReady, call: str) -> ResultNotReady:
     """The service's "not ready" with what a Python caller does instead of polling: the
     same problem, its detail ending with the call that waits; the service's own error is
@@ -112,6 +111,7 @@ def _waits_hint(error: ResultNotReady, call: str) -> ResultNotReady:
     return ResultNotReady(error.status, error.type, error.title,
                           f"{error.detail} ({call} waits for it)".lstrip(),
                           errors=error.errors, instance=error.instance, response=error.response)
+
 
 def _document(response: httpx.Response) -> dict[str, Any]:
     """The JSON object of a success; the problem it stands for, raised, otherwise."""
