@@ -40,6 +40,14 @@ def free_port() -> int:
     raise RuntimeError("no free port in 20000-32000")
 
 
+def default_sigint() -> None:
+    """In a child process before it runs: SIGINT at its default disposition. A process that
+    a non-interactive shell starts in the background ignores SIGINT, and its children
+    inherit that (Python then installs no KeyboardInterrupt handler); the servers and CLI
+    runs of the tests get Ctrl-C as a terminal would send it, wherever pytest was started."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class LiveServer:
     def __init__(self, data_dir: Path, env: dict[str, str] | None = None,
                  port: int | None = None) -> None:
@@ -65,7 +73,7 @@ class LiveServer:
                 [sys.executable, "-m", "service.cli", "serve", "--host", "127.0.0.1",
                  "--port", str(self.port), "--data-dir", str(self.data_dir)],
                 cwd=REPO, env=env, stdout=log, stderr=subprocess.STDOUT,
-                start_new_session=True)
+                start_new_session=True, preexec_fn=default_sigint)
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from tests.live import free_port, wait_for_status
+from tests.live import default_sigint, free_port, wait_for_status
 
 pytestmark = pytest.mark.e2e
 
@@ -338,6 +338,7 @@ def test_ctrl_c_while_waiting_leaves_the_job_running(server, http, tmp_path: Pat
             [str(MORPHSERVE), "--url", server.url, "execute", "diagnostics.sleep", "--param",
              "seconds=60", "--param", "steps=6000", "--wait"],
             stdout=subprocess.PIPE, stderr=stderr, text=True, start_new_session=True,
+            preexec_fn=default_sigint,
             env={k: v for k, v in os.environ.items() if k != "MORPHSERVE_API_KEY"})
     try:
         _wait_for(err, "%")  # the progress bar is up: the command is waiting
