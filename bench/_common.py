@@ -35,11 +35,13 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-# BENCH_NO_CHOLMOD=1: the permissive default install, as if cvxopt (the GPL cholmod extra)
-# were not installed (every import of it fails), as tests/algorithms/core/test_linsolve.py
-# does. Read here, before anything imports algorithms: every bench imports _common first.
+# BENCH_NO_CHOLMOD=1: the permissive default install, as if cvxopt and cholespy (the GPL
+# cholmod extra) were not installed (every import of them fails), as
+# tests/algorithms/core/test_linsolve.py does. Read here, before anything imports
+# algorithms: every bench imports _common first.
 if os.environ.get("BENCH_NO_CHOLMOD") == "1":
     sys.modules["cvxopt"] = None  # type: ignore[assignment]
+    sys.modules["cholespy"] = None  # type: ignore[assignment]
 
 import numpy as np  # noqa: E402
 from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402

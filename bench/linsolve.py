@@ -11,7 +11,7 @@ Three systems, each at about 5k, 50k and 200k vertices, all made in code:
   coupled through the boundary's area term) on the wavy grid, two boundary vertices pinned.
 
 Backends: every one that is installed of ``cholmod`` (SuiteSparse CHOLMOD through cvxopt,
-GPL-3.0), ``cholespy`` (BSD-3-Clause), ``superlu`` (SciPy, BSD-3-Clause) through
+GPL-3.0), ``cholespy`` (CHOLMOD compiled in: GPL-2.0), ``superlu`` (SciPy, BSD-3-Clause) through
 :class:`algorithms.core.linsolve.Factor`, and ``qdldl`` (Apache-2.0; LDLᵀ with an AMD
 ordering, one thread; not a backend of ``Factor``) called directly.
 

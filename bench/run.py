@@ -21,9 +21,9 @@ every seed's accuracy, to ``build/bench/results.json`` (``build/`` is not commit
                         [--modes 1,default] [--seeds 3] [--cases 'ICP p2p 100,000|openTSNE']
 
 ``make bench`` runs it (``make bench BENCH_ARGS=--quick`` for the small sizes).
-``BENCH_NO_CHOLMOD=1`` runs every bench as the permissive default install would (cvxopt, the
-GPL ``cholmod`` extra, made unimportable): the libigl rows then show the default's speed,
-and the rows without it what CHOLMOD adds.
+``BENCH_NO_CHOLMOD=1`` runs every bench as the permissive default install would (cvxopt and
+cholespy, the GPL ``cholmod`` extra, made unimportable): the libigl rows then show the
+default's speed, and the rows without it what CHOLMOD adds.
 
 ``--quick`` (or ``BENCH_QUICK=1``) runs every bench at its small sizes (a few minutes); the
 full run takes up to about 40 minutes on two cores. ``--large`` runs the benches of

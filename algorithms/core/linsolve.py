@@ -16,9 +16,13 @@ first):
 * ``"superlu"``: SciPy's SuperLU (BSD-3-Clause, always there) with the symmetric
   ``MMD_AT_PLUS_A`` ordering and no pivoting threshold (SPD matrices need none); it also
   handles symmetric indefinite matrices, so a matrix a Cholesky backend refuses as not
-  positive definite falls back to it.
-* ``"cholespy"``: the sparse Cholesky of ``cholespy`` (BSD-3-Clause, wheels; slow to
-  factor, fastest to solve: blocked over right-hand sides and multi-threaded).
+  positive definite falls back to it. The default install's only backend.
+* ``"cholespy"``: CHOLMOD again, through ``cholespy`` (slow to factor, fastest to solve:
+  blocked over right-hand sides and multi-threaded). **Optional** as well: cholespy's own
+  code is BSD-3-Clause, but its wheels compile in CHOLMOD's Core, Cholesky and Partition
+  modules (LGPL-2.1-or-later) and its Supernodal module (GPL-2.0-or-later), so the
+  binary is GPL whatever its metadata says (``tests/test_licences.py`` looks inside the
+  compiled files for that). It comes with the same ``cholmod`` extra.
 
 The orders come from ``bench/linsolve.py``, which runs every candidate side by side on the
 systems this package solves, each at about 5k, 50k and 200k vertices: the pinned cotangent
@@ -45,9 +49,9 @@ in milliseconds::
 (cvxopt 1.3.3, scipy 1.17.1, cholespy 2.2.0, qdldl 0.1.9; residuals ``‖A x - b‖∞ / ‖b‖∞``
 at most 1e-13, 1e-8 for the ill-conditioned LSCM matrices, alike for every backend.)
 
-* Of the two permissive backends SuperLU factors faster in 8 of the 9 systems (1.1-2.1×
-  faster than cholespy; cholespy is 1.3× faster only on the 200k torus), so it comes
-  first in the default install, for one-shot solves (factor once, solve once).
+* SuperLU factors faster than cholespy in 8 of the 9 systems (1.1-2.1×; cholespy is 1.3×
+  faster only on the 200k torus), so it comes before it for one-shot solves (factor once,
+  solve once).
 * cholespy solves 1.6-3× faster than SuperLU and 2.1-3.6× faster than CHOLMOD with 3
   right-hand sides (cvxopt's ``cholmod.solve`` solves one column at a time), so it leads
   :data:`SOLVE_ORDER` (ARAP's iterations, a factorization kept for many solves). Factor
@@ -98,7 +102,8 @@ __all__ = ["Factor", "PinnedSystem", "BACKENDS", "BREAK_EVEN", "SOLVE_ORDER",
            "available_backends"]
 
 #: Backends in order of preference: fastest factorization first (the module docstring has
-#: the measurements). ``"cholmod"`` is there only with the ``cholmod`` extra (cvxopt).
+#: the measurements). ``"cholmod"`` and ``"cholespy"`` are there only with the ``cholmod``
+#: extra (cvxopt, cholespy).
 BACKENDS = ("cholmod", "superlu", "cholespy")
 #: The order for many solves: fastest repeated solves first.
 SOLVE_ORDER = ("cholespy", "superlu", "cholmod")
@@ -109,7 +114,8 @@ BREAK_EVEN = {"cholmod": 20, "superlu": 16}
 _MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy"}
 #: How to get each backend, for the error that asks for one not installed.
 _INSTALL = {"cholmod": "pip install 'morphserve[cholmod]' (cvxopt, GPL-3.0)",
-            "cholespy": "pip install cholespy", "superlu": "pip install scipy"}
+            "cholespy": "pip install 'morphserve[cholmod]' (cholespy, CHOLMOD inside: GPL-2.0)",
+            "superlu": "pip install scipy"}
 
 
 @functools.cache
@@ -216,8 +222,8 @@ class Factor:
     backend : {"auto", "cholmod", "superlu", "cholespy"}, default "auto"
         ``"auto"`` takes the first installed of :data:`BACKENDS`, or of
         :data:`SOLVE_ORDER` when ``solves`` reaches the :data:`BREAK_EVEN` of the first
-        installed of :data:`BACKENDS`. ``"cholmod"`` needs the optional ``cholmod`` extra
-        (cvxopt, GPL-3.0).
+        installed of :data:`BACKENDS`. ``"cholmod"`` and ``"cholespy"`` need the optional
+        ``cholmod`` extra (cvxopt, cholespy: CHOLMOD, GPL).
     solves : int, default 1
         How many solves the factorization is expected to serve (iterations, frames,
         interactive handles: a large number): what ``"auto"`` optimises is the

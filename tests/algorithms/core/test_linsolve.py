@@ -53,7 +53,8 @@ ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_installed_backends():
-    # the default install's two backends are always there; CHOLMOD exactly with cvxopt
+    # SuperLU is always there; the two CHOLMODs exactly when their packages are (the test
+    # extra installs both)
     assert available_backends() == tuple(b for b in BACKENDS if b != "cholmod" or HAVE_CVXOPT)
     assert {"superlu", "cholespy"} <= set(available_backends())
 
@@ -319,18 +320,19 @@ def test_sphere_with_one_pin_per_component_is_solvable():
     np.testing.assert_allclose(x, 1.0, atol=1e-12)          # constant is the harmonic function
 
 
-# --- the default install: no cvxopt ----------------------------------------------------------
+# --- the default install: no cvxopt, no cholespy ----------------------------------------------------------
 
-_WITHOUT_CVXOPT = textwrap.dedent("""
+_WITHOUT_CHOLMOD = textwrap.dedent("""
     import json, pkgutil, sys
     sys.modules["cvxopt"] = None          # as if not installed: every import of it fails
+    sys.modules["cholespy"] = None
     import importlib
     import numpy as np
     import scipy.sparse as sp
     import scipy.sparse.linalg as sla
     import algorithms
     for m in pkgutil.walk_packages(algorithms.__path__, "algorithms."):
-        importlib.import_module(m.name)   # every module imports without cvxopt
+        importlib.import_module(m.name)   # every module imports without them
     from algorithms.core.errors import InvalidInputError
     from algorithms.core.linsolve import Factor, PinnedSystem, available_backends
     n = 40
@@ -339,11 +341,12 @@ _WITHOUT_CVXOPT = textwrap.dedent("""
     b = np.random.default_rng(0).standard_normal((n, 3))
     f, g = Factor(a), Factor(a, solves=16)
     lap = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
-    try:
-        Factor(a, backend="cholmod")
-        refused = ""
-    except InvalidInputError as e:
-        refused = str(e)
+    refused = []
+    for backend in ("cholmod", "cholespy"):
+        try:
+            Factor(a, backend=backend)
+        except InvalidInputError as e:
+            refused.append(str(e))
     print(json.dumps({
         "available": available_backends(), "auto": f.backend, "solve": g.backend,
         "error": float(max(abs(f.solve(b) - sla.spsolve(a, b)).max(),
@@ -351,21 +354,22 @@ _WITHOUT_CVXOPT = textwrap.dedent("""
         "indefinite": Factor(sp.csr_array([[1.0, 2.0], [2.0, 1.0]])).backend,
         "pinned": PinnedSystem(lap, [0, 2]).solve([0.0, 1.0]).tolist(),
         "refused": refused,
-        "cvxopt_loaded": sys.modules.get("cvxopt") is not None}))
+        "loaded": [m for m in ("cvxopt", "cholespy") if sys.modules.get(m) is not None]}))
 """)
 
 
-def test_default_install_works_without_cvxopt():
-    out = subprocess.run([sys.executable, "-c", _WITHOUT_CVXOPT], cwd=ROOT, check=True,
+def test_default_install_works_without_cvxopt_and_cholespy():
+    out = subprocess.run([sys.executable, "-c", _WITHOUT_CHOLMOD], cwd=ROOT, check=True,
                          capture_output=True, text=True, timeout=240).stdout
     got = json.loads(out.strip().splitlines()[-1])
-    assert got["available"] == ["superlu", "cholespy"]
-    assert got["auto"] == "superlu" and got["solve"] == "cholespy"
+    assert got["available"] == ["superlu"]
+    assert got["auto"] == "superlu" and got["solve"] == "superlu"
     assert got["error"] < 1e-10
     assert got["indefinite"] == "superlu"
     assert got["pinned"] == [0.0, 0.5, 1.0]
-    assert "pip install 'morphserve[cholmod]'" in got["refused"]
-    assert got["cvxopt_loaded"] is False
+    assert len(got["refused"]) == 2
+    assert all("pip install 'morphserve[cholmod]'" in e for e in got["refused"])
+    assert got["loaded"] == []
 
 
 def test_auto_order_without_cholmod(monkeypatch):
