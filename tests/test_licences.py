@@ -8,7 +8,8 @@ is read from its metadata: the SPDX ``License-Expression`` when there is one, el
 recognised by its opening), else the licence files it ships.
 
 The policy, for the default install only (an optional extra such as ``cholmod``, which
-brings cvxopt and CHOLMOD under GPL-3.0, is the user's choice and is left out of the walk):
+brings CHOLMOD under the GPL through cvxopt and cholespy, is the user's choice and is left
+out of the walk):
 
 * accepted: permissive licences (MIT, BSD, Apache-2.0, ISC, PSF, Zlib, Unlicense, ...);
   MPL-2.0 too: its copyleft is per file and binds only changes to its own files, which we
@@ -25,10 +26,16 @@ brings cvxopt and CHOLMOD under GPL-3.0, is the user's choice and is left out of
   ``Files:`` / ``License:`` blocks and from the shared libraries auditwheel grafted into
   ``<package>.libs/``. The same rules hold, with one exception made explicit: an LGPL
   *shared library*, a separate file loaded at run time, is accepted. That is libquadmath
-  (LGPL-2.1-or-later, GCC's) inside the NumPy, SciPy and cholespy wheels: dynamic linking
+  (LGPL-2.1-or-later, GCC's) inside the NumPy and SciPy wheels: dynamic linking
   to a replaceable library is what the LGPL allows without extending it to the program,
   and NumPy and SciPy are the base of the package, so no permissive install exists
   without it;
+* a licence file need not name what a wheel compiles into its own extension modules:
+  cholespy's metadata and licence file say BSD-3-Clause, and its extension module holds
+  CHOLMOD's Supernodal module (GPL-2.0-or-later). So every compiled file is searched for
+  the entry points of the copyleft libraries that numerical wheels are known to build in
+  (:data:`COMPILED_IN`: SuiteSparse's CHOLMOD, UMFPACK, SPQR and KLU, FFTW, GSL,
+  Readline), and what it finds is listed and judged like any bundled library;
 * a licence that cannot be read at all fails too: every dependency must be accounted for.
 
 Run as a script (``make licences``) to print the table.
@@ -205,6 +212,26 @@ GRAFTED = {
 #: a separate shared library (``libquadmath-1a2b.so.0``, ``libx*.so``), not a Python
 #: extension module (``_ext.cpython-311-x86_64-linux-gnu.so``), which is the package's own code
 SHARED_LIBRARY = re.compile(r"(^|/)lib(?!.*(cpython|abi3|pypy))[^/]*\.(so|dylib)(\*|\.[\d*]+)*$")
+#: copyleft libraries that a wheel may compile into its own extension modules, where neither
+#: a licence file nor a grafted library names them (cholespy's wheels compile in CHOLMOD):
+#: recognised by an entry point's name, which a compiled file holds whether it contains
+#: the library or links to it -> (library, licence)
+COMPILED_IN = {
+    b"cholmod_super_numeric": ("CHOLMOD Supernodal", "GPL-2.0-or-later"),
+    b"cholmod_updown": ("CHOLMOD Modify", "GPL-2.0-or-later"),
+    b"cholmod_start": ("CHOLMOD Core", "LGPL-2.1-or-later"),
+    b"cholmod_l_start": ("CHOLMOD Core", "LGPL-2.1-or-later"),
+    b"umfpack_di_numeric": ("UMFPACK", "GPL-2.0-or-later"),
+    b"umfpack_dl_numeric": ("UMFPACK", "GPL-2.0-or-later"),
+    b"SuiteSparseQR": ("SPQR", "GPL-2.0-or-later"),
+    b"klu_factor": ("KLU", "LGPL-2.1-or-later"),
+    b"klu_l_factor": ("KLU", "LGPL-2.1-or-later"),
+    b"fftw_execute": ("FFTW", "GPL-2.0-or-later"),
+    b"gsl_set_error_handler": ("GSL", "GPL-3.0-or-later"),
+    b"rl_readline_version": ("GNU Readline", "GPL-3.0-or-later"),
+}
+#: a compiled file: an extension module or a shared library
+COMPILED = re.compile(r"\.(so|pyd|dylib)(\.[\d.]+)*$")
 #: the bundled-licence blocks of NumPy's and SciPy's licence files
 BLOCK = re.compile(r"^Name: (?P<name>.+)\nFiles: (?P<files>.+)\n(?:\w+: .*\n)*?License: "
                    r"(?P<licence>.+)$", re.M)
@@ -253,6 +280,27 @@ def bundled_of(dist: md.Distribution) -> list[Bundled]:
             continue
         stem = re.sub(r"(-[0-9a-f]{8})+(\.so.*)?$|(\.so.*)$", "", f.name)
         out.append(Bundled(stem, path, GRAFTED.get(stem, "?")))
+    return out + compiled_in(dist)
+
+
+def compiled_in(dist: md.Distribution) -> list[Bundled]:
+    """The copyleft libraries of :data:`COMPILED_IN` that a distribution's own compiled
+    files (not those grafted into ``<package>.libs/``, which :func:`bundled_of` names by
+    file) contain or link to."""
+    import mmap
+
+    out: list[Bundled] = []
+    for f in dist.files or []:
+        if not COMPILED.search(f.name) or f.parts[0].endswith(".libs"):
+            continue
+        path = Path(f.locate())
+        if not path.is_file() or path.stat().st_size == 0:
+            continue
+        with path.open("rb") as fh, mmap.mmap(fh.fileno(), 0, access=mmap.ACCESS_READ) as data:
+            for symbol, (library, licence) in COMPILED_IN.items():
+                b = Bundled(library, f.as_posix(), licence)
+                if b not in out and data.find(symbol) >= 0:
+                    out.append(b)
     return out
 
 
@@ -334,8 +382,8 @@ def test_default_install_has_no_copyleft_licence(capsys):
     with capsys.disabled():  # the list, in the test run's output
         print(f"\nthe default install: {len(deps)} distributions\n{table(deps)}")
     names = {canonicalize_name(d.name) for d in deps}
-    assert {"numpy", "scipy", "fastapi", "distributed", "cholespy"} <= names
-    assert "cvxopt" not in names  # CHOLMOD is the cholmod extra only
+    assert {"numpy", "scipy", "fastapi", "distributed", "pot"} <= names
+    assert not names & {"cvxopt", "cholespy"}  # CHOLMOD is the cholmod extra only
     refused = [f"{d.name} {d.version}: {d.licence} ({d.source})" for d in deps
                if not accepted(d.licence)]
     refused += [f"{b.name} in {d.name} {d.version}: {b.licence} ({b.files})" for d in deps
@@ -371,13 +419,42 @@ def test_bundled_library_rules(tmp_path, monkeypatch):
     assert not static.dynamic_lgpl
 
 
-def test_cholmod_is_an_extra():
+def test_compiled_in_copyleft_is_found(tmp_path, monkeypatch):
+    # an MIT wheel whose extension module carries CHOLMOD's supernodal code, and one whose
+    # extension module carries nothing known: only the first is refused
+    _fake_dist(tmp_path, "fake-static-gpl", "License-Expression: MIT",
+               files={"fake_static_gpl/_core.cpython-311-x86_64-linux-gnu.so":
+                      b"\x7fELF\0...cholmod_start\0cholmod_super_numeric\0..."})
+    _fake_dist(tmp_path, "fake-clean", "License-Expression: MIT",
+               files={"fake_clean/_core.cpython-311-x86_64-linux-gnu.so": b"\x7fELF\0dgemm_\0"})
+    monkeypatch.syspath_prepend(str(tmp_path))
+    found = {b.name: b for b in bundled_of(md.distribution("fake-static-gpl"))}
+    assert sorted(found) == ["CHOLMOD Core", "CHOLMOD Supernodal"]
+    assert found["CHOLMOD Supernodal"].licence == "GPL-2.0-or-later"
+    assert not found["CHOLMOD Supernodal"].ok
+    assert not found["CHOLMOD Core"].ok and not found["CHOLMOD Core"].dynamic_lgpl  # static
+    assert bundled_of(md.distribution("fake-clean")) == []
+
+
+def test_cholespy_is_found_to_carry_cholmod_when_installed():
+    # the real case: cholespy's metadata says BSD, its extension module is CHOLMOD's
+    try:
+        dist = md.distribution("cholespy")
+    except md.PackageNotFoundError:
+        pytest.skip("cholespy (the cholmod extra) not installed")
+    assert accepted(licence_of(dist)[0])  # the metadata alone would let it through
+    found = {b.name for b in bundled_of(dist) if not b.ok}
+    assert "CHOLMOD Supernodal" in found
+
+
+@pytest.mark.parametrize("dist", ["cvxopt", "cholespy"])
+def test_cholmod_is_an_extra(dist):
     reqs = [Requirement(r) for r in md.requires("morphserve") or []]
-    cvxopt = [r for r in reqs if canonicalize_name(r.name) == "cvxopt"]
-    assert cvxopt, "cvxopt is declared by an extra"
-    for r in cvxopt:
+    declared = [r for r in reqs if canonicalize_name(r.name) == dist]
+    assert declared, f"{dist} is declared by an extra"
+    for r in declared:
         assert r.marker is not None and not r.marker.evaluate({"extra": ""})
-    assert any(r.marker.evaluate({"extra": "cholmod"}) for r in cvxopt if r.marker)
+    assert any(r.marker.evaluate({"extra": "cholmod"}) for r in declared if r.marker)
 
 
 def test_vendored_browser_assets_ship_their_licences():
@@ -399,10 +476,12 @@ def test_vendored_browser_assets_ship_their_licences():
                 f"{rel} is not package data: the wheel and the image would lack it"
 
 
-def _fake_dist(site: Path, name: str, *headers: str, files: tuple[str, ...] | list[str] = (),
+def _fake_dist(site: Path, name: str, *headers: str,
+               files: tuple[str, ...] | list[str] | dict[str, bytes] = (),
                license_text: str = "") -> None:
-    """An installed distribution in ``site``: its metadata, the ``files`` (empty) and a
-    licence file holding ``license_text``, all in its RECORD."""
+    """An installed distribution in ``site``: its metadata, the ``files`` (empty, or with
+    the contents a dict gives) and a licence file holding ``license_text``, all in its
+    RECORD."""
     stem = name.replace("-", "_")
     info = site / f"{stem}-1.0.dist-info"
     info.mkdir()
@@ -411,7 +490,7 @@ def _fake_dist(site: Path, name: str, *headers: str, files: tuple[str, ...] | li
     record = [f"{info.name}/METADATA,,"]
     for rel in files:
         (site / rel).parent.mkdir(parents=True, exist_ok=True)
-        (site / rel).write_bytes(b"")
+        (site / rel).write_bytes(files[rel] if isinstance(files, dict) else b"")
         record.append(f"{rel},,")
     if license_text:
         (info / "LICENSE").write_text(license_text)
