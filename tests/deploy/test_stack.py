@@ -128,6 +128,33 @@ def test_the_image_carries_morphserves_own_licence(image: str) -> None:
     assert inside == (ROOT / "LICENSE").read_text()
 
 
+#: the names of every distribution installed in the image
+DISTRIBUTIONS = """
+import importlib.metadata as m
+print("\\n".join(d.metadata["Name"] for d in m.distributions()))
+"""
+#: what the base image (python:3.11-slim) installs beside Python itself: MIT, both
+BASE_IMAGE = {"pip", "setuptools", "wheel"}
+
+
+def test_the_default_image_holds_the_default_install_and_nothing_else(image: str) -> None:
+    """The default image target is the default install: exactly the distributions that
+    ``tests/test_licences.py`` walks from morphserve's requirements and judges permissive
+    (no cvxopt, no cholespy: CHOLMOD comes only with ``EXTRAS=cholmod``), plus morphserve
+    and the base image's installers."""
+    from packaging.utils import canonicalize_name
+
+    from tests.test_licences import default_install
+
+    inside = {canonicalize_name(n) for n in podman("run", "--rm", "--entrypoint", "python", image,
+                                           "-c", DISTRIBUTIONS).stdout.split()}
+    walked = {canonicalize_name(d.name) for d in default_install()}
+    assert not {"cvxopt", "cholespy"} & inside
+    assert inside - BASE_IMAGE == walked | {"morphserve"}, (
+        f"only in the image: {sorted(inside - BASE_IMAGE - walked - {'morphserve'})}; "
+        f"only in the walk: {sorted(walked - inside)}")
+
+
 def test_image_runs_as_a_non_root_user(image: str, lone_container: tuple[str, str]) -> None:
     assert podman("image", "inspect", "--format", "{{.Config.User}}", image).stdout.strip() == (
         f"{UID}:{UID}")
