@@ -29,42 +29,41 @@ systems this package solves, each at about 5k, 50k and 200k vertices: the pinned
 Laplacian of a jittered wavy grid (harmonic and biharmonic deformation, Tutte and
 Laplacian layout), the ARAP free block of a torus with 1 % of its vertices pinned, and the
 LSCM matrix ``Q`` (``2n`` unknowns) of the grid with two pins. Medians of 3 interleaved
-runs on a shared 2-core machine under a load average of 2.4-3.3 (CHOLMOD on cvxopt's
-OpenBLAS with 1 thread, cholespy with its own pool of 2, SuperLU and qdldl one thread), so
+runs on a quiet 2-core machine (load average 0.1-0.9; CHOLMOD on cvxopt's OpenBLAS with 1
+thread, cholespy with its own pool of 2, SuperLU and qdldl one thread); on a shared machine
 only the ratios within a row mean much. Factor in seconds, the solve of 3 right-hand sides
 in milliseconds::
 
                                       factor (s)                   solve, 3 rhs (ms)
     system           unknowns  cholmod superlu cholespy qdldl   cholmod superlu cholespy
-    Laplacian 5k        4,761    0.004   0.007   0.015  0.005       0.6     0.6     0.2
-    ARAP 5k             4,954    0.005   0.014   0.015  0.009       0.7     0.8     0.3
-    LSCM 5k            10,078    0.008   0.020   0.038  0.016       1.8     1.3     0.5
-    Laplacian 50k      49,284    0.046   0.164   0.237  0.085      15.3     9.4     5.5
-    ARAP 50k           49,482    0.069   0.276   0.311  0.289      20.2    14.4     6.9
-    LSCM 50k          100,348    0.132   0.477   0.724  0.385      40.5    29.1    15.7
-    Laplacian 200k    198,916    0.330   1.356   1.785  1.124      90.1    70.0    43.5
-    ARAP 200k         197,942    0.584   2.408   1.875  4.800     114.3    98.8    33.8
-    LSCM 200k         401,404    0.764   2.958   5.594  5.808     185.3   200.5    76.2
+    Laplacian 5k        4,761    0.004   0.007   0.014  0.005       0.8     0.7     0.4
+    ARAP 5k             4,954    0.006   0.014   0.017  0.010       1.0     0.9     0.5
+    LSCM 5k            10,078    0.010   0.028   0.047  0.019       2.1     2.2     1.0
+    Laplacian 50k      49,284    0.048   0.193   0.279  0.110      20.6    12.3     7.7
+    ARAP 50k           49,482    0.101   0.305   0.336  0.378      22.8    15.7     8.0
+    LSCM 50k          100,348    0.156   0.514   0.818  0.500      53.1    27.4    17.9
+    Laplacian 200k    198,916    0.313   1.280   1.623  1.053      95.3    60.9    36.0
+    ARAP 200k         197,942    0.626   2.300   2.515  6.542     143.1    85.0    39.7
+    LSCM 200k         401,404    0.974   4.061   8.203  7.898     228.9   161.1    92.1
 
 (cvxopt 1.3.3, scipy 1.17.1, cholespy 2.2.0, qdldl 0.1.9; residuals ``‖A x - b‖∞ / ‖b‖∞``
-at most 1e-13, 1e-8 for the ill-conditioned LSCM matrices, alike for every backend.)
+at most 1e-13, 1e-7 for the ill-conditioned LSCM matrices, alike for every backend.)
 
-* SuperLU factors faster than cholespy in 8 of the 9 systems (1.1-2.1×; cholespy is 1.3×
-  faster only on the 200k torus), so it comes before it for one-shot solves (factor once,
-  solve once).
-* cholespy solves 1.6-3× faster than SuperLU and 2.1-3.6× faster than CHOLMOD with 3
+* SuperLU factors faster than cholespy in all 9 systems (1.1-2.0×), so it comes before it
+  for one-shot solves (factor once, solve once).
+* cholespy solves 1.5-2.2× faster than SuperLU and 2.0-3.6× faster than CHOLMOD with 3
   right-hand sides (cvxopt's ``cholmod.solve`` solves one column at a time), so it leads
   :data:`SOLVE_ORDER` (ARAP's iterations, a factorization kept for many solves). Factor
-  plus ``k`` solves, cholespy is the faster from ``k`` = 16-44 (median 22) against CHOLMOD
-  and from 5-21 (median 17) against SuperLU on the 50k and 200k rows (on the 200k torus
-  it factors faster too): :data:`BREAK_EVEN`.
-* CHOLMOD, when the extra is installed, factors 3.6-4.1× faster than SuperLU at 50k and
+  plus ``k`` solves, cholespy is the faster from ``k`` = 16-53 (median 19) against CHOLMOD
+  and from 4-60 (median 16) against SuperLU on the 50k and 200k rows: :data:`BREAK_EVEN`.
+* CHOLMOD, when the extra is installed, factors 3.0-4.2× faster than SuperLU at 50k and
   200k vertices (1.8-2.8× at 5k), so it leads :data:`BACKENDS`; its solves are no faster
   than SuperLU's, so it comes last in :data:`SOLVE_ORDER`.
 * qdldl (Apache-2.0, LDLᵀ with an AMD ordering, wheels) factors the 5k systems and the
-  50k and 200k grids 1.2-1.9× faster than SuperLU, ties on the 50k torus and is 2× slower
-  on the 200k torus and LSCM matrix (its factorization has no supernodes), so it is not a
-  dependency; the bench still times it when it is installed.
+  50k and 200k grids 1.2-1.8× faster than SuperLU, ties on the 50k LSCM matrix and is
+  1.2-2.8× slower on the torus at 50k and 200k and 1.9× on the 200k LSCM matrix (its
+  factorization has no supernodes): no order of the two is the faster on every system, so
+  it is not a dependency; the bench still times it when it is installed.
 * scikit-sparse (CHOLMOD) is GPL and has no wheels; SciPy's ``spsolve`` with UMFPACK
   needs scikit-umfpack (GPL); PARDISO needs Intel's MKL (not an open-source licence).
 
@@ -109,7 +108,7 @@ BACKENDS = ("cholmod", "superlu", "cholespy")
 SOLVE_ORDER = ("cholespy", "superlu", "cholmod")
 #: From how many solves per factorization :data:`SOLVE_ORDER` beats :data:`BACKENDS`, by
 #: the backend that would factor (the module docstring has the measurements).
-BREAK_EVEN = {"cholmod": 20, "superlu": 16}
+BREAK_EVEN = {"cholmod": 19, "superlu": 16}
 
 _MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy"}
 #: How to get each backend, for the error that asks for one not installed.

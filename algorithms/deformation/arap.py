@@ -124,8 +124,8 @@ class ArapSolver:
         How many iterations the factorization will serve, over every :meth:`solve` (each
         iteration is one solve with ``d`` right-hand sides). Omitted: many (interactive
         handles, many targets), which favours the backend with the fastest solves
-        (cholespy, with the ``cholmod`` extra: 3-4× faster than CHOLMOD through cvxopt,
-        which factors 4-5× faster; SuperLU alone in the default install); :func:`arap`
+        (cholespy, with the ``cholmod`` extra: 2-3.6× faster than CHOLMOD through cvxopt,
+        which factors 3-8× faster; SuperLU alone in the default install); :func:`arap`
         passes its ``max_iterations``.
 
     Attributes
