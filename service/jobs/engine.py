@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import pickle
 import threading
 import time
 from collections.abc import Awaitable, Callable
@@ -46,6 +47,8 @@ from distributed.client import Future, FutureCancelledError
 from distributed.scheduler import KilledWorker
 from distributed.security import Security
 
+from service.catalog import lookup
+from service.jobs.direct import Slots, WorkerLost, install
 from service.jobs.fastpool import FastPool, children_ignore_sigint
 from service.jobs.runner import TOPIC, cancel_event_name, run_job
 from service.jobs.scheduler import embedded_scheduler, send_promptly
@@ -59,18 +62,24 @@ __all__ = ["Engine", "GRACE"]
 log = logging.getLogger("morphserve.engine")
 
 GRACE = 2.0
-"""Seconds past its time limit after which a job that ignores its cancel event is stopped
-by restarting its worker."""
+"""Seconds past its time limit (or its dismissal, for a job sent to a worker directly) after
+which a job that ignores its cancel event is stopped by restarting its worker."""
+
+MARK_RUNNING_AFTER = 0.05
+"""Seconds a job sent to a worker directly runs before its start is recorded (a shorter one
+has its start recorded with its end: one commit instead of two)."""
 
 
 class WarmUp(WorkerPlugin):
-    """Imports the runner (and so the catalog and every algorithm) when a worker starts, and
-    has the worker report to the scheduler promptly
-    (:data:`~service.jobs.scheduler.SEND_INTERVAL`)."""
+    """Imports the runner (and so the catalog and every algorithm) when a worker starts, has
+    the worker report to the scheduler promptly
+    (:data:`~service.jobs.scheduler.SEND_INTERVAL`) and take jobs sent to it directly
+    (:mod:`service.jobs.direct`)."""
 
     def setup(self, worker: Any) -> None:
         import service.jobs.runner  # noqa: F401
         send_promptly(getattr(worker, "batched_stream", None))
+        install(worker)
 
 
 @dataclass
@@ -78,7 +87,9 @@ class _Handle:
     job: JobRecord
     outcome: asyncio.Future[Outcome]
     future: Future[Outcome] | None = None
-    """The Dask future; None on the fast path."""
+    """The Dask future; None on the fast path and for a job sent to a worker directly."""
+    direct: bool = False
+    """Sent to a worker directly (:mod:`service.jobs.direct`), not through the scheduler."""
     cancel: threading.Event = field(default_factory=threading.Event)
     """The fast path's dismissal flag."""
     started: float | None = None
@@ -113,6 +124,11 @@ class Engine:
         self.store = store
         self.cluster: LocalCluster | None = None
         self.client: Client | None = None
+        self._slots: Slots | None = None
+        """The embedded cluster's workers, for jobs sent to them directly."""
+        self._stopping: dict[str, float] = {}
+        """Direct jobs dismissed while running -> when their worker is restarted if they
+        still run then (they ignore their dismissal)."""
         self._jobs: dict[str, _Handle] = {}
         self._unrecorded = 0
         """Fast-path jobs running before their row is written (:meth:`run_first`)."""
@@ -164,6 +180,9 @@ class Engine:
         send_promptly(getattr(self.client, "scheduler_comm", None))
         self.client.subscribe_topic(TOPIC, self._on_event)
         await self.client.register_plugin(WarmUp(), name="morphserve-warm-up")
+        if self.cluster is not None:
+            self._slots = Slots(self.client)
+            await self._slots.refresh()
         await self.recover()
         self._spawn(self._sweep())
 
@@ -219,11 +238,17 @@ class Engine:
         self._submit_dask(handle, payload)
 
     def _submit_dask(self, handle: _Handle, payload: dict[str, Any] | str) -> None:
-        """Send the job of ``handle`` to the Dask workers and watch it there."""
+        """Send the job of ``handle`` to the Dask workers and watch it there: directly to a
+        worker of the embedded cluster unless its process is ``long``
+        (:mod:`service.jobs.direct`), else through the scheduler."""
         assert self.client is not None, "engine not started"
         job = handle.job
         for callback in self.on_run:
             callback(job, "workers")
+        if self._slots is not None and self._direct_ok(job.process):
+            handle.direct = True
+            self._spawn(self._run_direct(handle, payload))
+            return
         persist = self.settings.scheduler is not None
         # Dask hands the keywords it does not take itself (key, pure, ...) to run_job
         handle.future = self.client.submit(
@@ -234,6 +259,11 @@ class Engine:
         if persist:
             fire_and_forget(handle.future)
         self._spawn(self._watch(handle))
+
+    def _direct_ok(self, process_id: str) -> bool:
+        """Jobs of ``process_id`` may be sent to a worker directly: it is not ``long``."""
+        process = lookup(process_id, test_processes=self.settings.test_processes)
+        return process is not None and not process.long
 
     async def recover(self) -> None:
         """Finish what a previous run of the service left: complete rows whose outputs a
@@ -291,7 +321,15 @@ class Engine:
         if handle is None:
             return
         handle.cancel.set()
-        if handle.future is not None:
+        if handle.direct and self._slots is not None:
+            # the flag on its worker, looked at by the job's progress callback; recorded at
+            # once, as a cancelled future is: a job that ignores its flag has its worker
+            # restarted after GRACE seconds (the sweep)
+            if self._slots.worker_of(job_id) is not None:
+                self._stopping[job_id] = time.monotonic() + GRACE
+                await self._slots.cancel(job_id)
+            await self._record(handle, Outcome.dismissed())
+        elif handle.future is not None:
             await self._signal_cancel(job_id)
             await handle.future.cancel()
 
@@ -388,6 +426,70 @@ class Engine:
         """Record the end of a job :meth:`run_first` stored while it was running."""
         await self._finish_fast(handle, kwargs, await compute)
 
+    async def _run_direct(self, handle: _Handle, payload: dict[str, Any] | str) -> None:
+        """Run the job of ``handle`` on a worker of the embedded cluster, sent directly, and
+        record its outcome."""
+        outcome = await self._direct(handle, pickle.dumps(payload, protocol=5))
+        if outcome is not None:
+            await self._record(handle, outcome)
+
+    async def _direct(self, handle: _Handle, payload: bytes) -> Outcome | None:
+        """The outcome of a direct job, or ``None`` if it is not this coroutine's to record
+        (dismissed, timed out by the sweep, the service closing). A worker lost under the
+        job counts against it as the scheduler counts it (``allowed_failures``); one lost
+        before the job reached it does not."""
+        assert self._slots is not None
+        job = handle.job
+        failures = 0
+        while True:
+            if handle.cancel.is_set() or handle.recording or handle.outcome.done():
+                return None  # whoever stopped it records how it ended
+            try:
+                return await self._slots.run(
+                    job.id, job.process, payload, time_limit=job.time_limit,
+                    test_processes=self.settings.test_processes, stop=handle.cancel,
+                    on_start=lambda worker: self._direct_started(handle))
+            except WorkerLost as exc:
+                if not exc.sent:
+                    continue
+                failures += 1
+                log.warning("job %s: its worker %s died (%d of %d allowed)", job.id,
+                            exc.worker, failures, self.settings.allowed_failures)
+                if failures > self.settings.allowed_failures:
+                    return Outcome.failed(problem_body(
+                        "worker-lost", f"The job's worker died {failures} times (crash or "
+                        f"memory limit); last on {exc.worker}."))
+            except asyncio.CancelledError:
+                raise
+            except Exception as exc:
+                if self._closing:
+                    return None
+                log.exception("job %s: unexpected error from its worker", job.id)
+                return Outcome.failed(problem_body(
+                    "job-failed", f"The worker reported {type(exc).__name__}: {exc}"))
+
+    def _direct_started(self, handle: _Handle) -> None:
+        """A direct job was sent to a free worker: it starts now. Its start is recorded
+        with its end (one commit instead of two), unless it runs for
+        :data:`MARK_RUNNING_AFTER` seconds, or reports progress, or a subscriber wants to
+        hear of it."""
+        handle.started = time.monotonic()
+        if handle.stored:
+            if self.on_start_wanted(handle.job):
+                handle.marked_running = True
+                self.store.write(self.store.mark_running, handle.job.id)
+            else:
+                asyncio.get_running_loop().call_later(MARK_RUNNING_AFTER, self._mark_running,
+                                                      handle)
+            for callback in self.on_start:
+                callback(handle.job)
+
+    def _mark_running(self, handle: _Handle) -> None:
+        if (self._jobs.get(handle.job.id) is handle and handle.stored
+                and not handle.recording and not handle.marked_running):
+            handle.marked_running = True
+            self.store.write(self.store.mark_running, handle.job.id)
+
     async def _watch(self, handle: _Handle) -> None:
         assert handle.future is not None
         try:
@@ -474,10 +576,27 @@ class Engine:
         return sub is not None and bool(sub.in_progress_uri)
 
     async def _sweep(self) -> None:
-        """Stop jobs that ignore their time limit: after GRACE seconds, restart the worker."""
+        """Stop jobs that ignore their time limit (or their dismissal, if sent directly):
+        after GRACE seconds, restart the worker. Keep the direct jobs' list of workers
+        current."""
         while True:
             await asyncio.sleep(0.5)
             now = time.monotonic()
+            if self._slots is not None:
+                if self._slots.stale:
+                    try:
+                        await self._slots.refresh()
+                    except Exception:  # the scheduler is gone
+                        log.warning("could not list the workers", exc_info=True)
+                for job_id, when in list(self._stopping.items()):
+                    worker = self._slots.worker_of(job_id)
+                    if worker is None:
+                        del self._stopping[job_id]
+                    elif now >= when:
+                        del self._stopping[job_id]
+                        log.warning("job %s ignored its dismissal; restarting its worker",
+                                    job_id)
+                        await self._restart_workers([worker])
             for handle in list(self._jobs.values()):
                 limit = handle.job.time_limit
                 if (handle.recording or not handle.stored or handle.started is None
@@ -487,7 +606,11 @@ class Engine:
                 log.warning("job %s ignored its time limit of %g s; stopping it",
                             handle.job.id, limit)
                 handle.cancel.set()
-                if handle.future is not None:
+                if handle.direct and self._slots is not None:
+                    worker = self._slots.worker_of(handle.job.id)
+                    if worker is not None:
+                        await self._restart_workers([worker])
+                elif handle.future is not None:
                     await self._signal_cancel(handle.job.id)
                     await self._restart_worker_of(handle.job.id)
                 await self._record(handle, Outcome.time_limit_exceeded(limit))
@@ -500,7 +623,16 @@ class Engine:
         try:
             processing = await self.client.processing()
             workers = [w for w, keys in processing.items() if key in keys]
-            if workers:
-                await self.client.restart_workers(workers, raise_for_error=False)
         except Exception:
-            log.warning("could not restart the worker of %s", job_id, exc_info=True)
+            log.warning("could not find the worker of %s", job_id, exc_info=True)
+            return
+        await self._restart_workers(workers)
+
+    async def _restart_workers(self, workers: list[str]) -> None:
+        assert self.client is not None
+        if not workers:
+            return
+        try:
+            await self.client.restart_workers(workers, raise_for_error=False)
+        except Exception:
+            log.warning("could not restart the workers %s", workers, exc_info=True)
