@@ -28,6 +28,7 @@ from algorithms.core.errors import InvalidInputError
 from algorithms.core.threads import query_workers, single_blas_thread
 from algorithms.core.types import FloatArray, IntArray, IntpArray, KnnQuery
 from algorithms.core.validation import as_int, as_points
+from algorithms.embedding._groups import group_count, partition
 
 __all__ = ["trustworthiness", "fix_signs", "quality_neighbors"]
 
@@ -231,8 +232,10 @@ def _outsider_ranks_from_lists(x: FloatArray, emb: IntpArray, input_d2: FloatArr
     with the input's sorted neighbour lists known (squared distances and indices, at least
     ``k`` wide): a rank :math:`1 + \#\{l : d_{il} < d_{ij}\}` is read off its row of the
     lists when the neighbour is there, and only rows with an embedded neighbour beyond the
-    list need their distances to all points (in blocks of rows, screened by BLAS estimates
-    with an error bound, :func:`_screen`)."""
+    list need their distances to the other points (in blocks of rows, screened by BLAS
+    estimates with an error bound, :func:`_screen`), and only to those of the groups of
+    a partition (:mod:`~algorithms.embedding._groups`) that may hold a point closer than
+    the row's farthest outsider."""
     n = x.shape[0]
     width = input_nbr.shape[1]
     total = 0.0
@@ -251,41 +254,87 @@ def _outsider_ranks_from_lists(x: FloatArray, emb: IntpArray, input_d2: FloatArr
     inside = ranks > 0
     total += float(np.maximum(ranks[inside] - k, 0).sum())
     far = np.flatnonzero(~inside.all(axis=1))
-    if far.size:
-        # rank = 1 + #{l : d_il < d_ij}, counted on estimates of the distances by BLAS
-        # (in blocks of rows; double precision, so that few fall within the error bound
-        # of the threshold); those that do are decided by their exact distances
-        xc = x - x.mean(axis=0)
-        sq, x32, sq32, slack = _screen(xc, single=False)
-        chunk = max(1, min(far.size, _LIST_CELLS // n))
-        with single_blas_thread():
-            for start in range(0, far.size, chunk):
-                r = far[start:start + chunk]
-                est = x32[r] @ x32.T
+    if far.size == 0:
+        return total
+    # rank = 1 + #{l : d_il < d_ij}, counted on estimates of the distances by BLAS (single
+    # precision, with an error bound), group by group of a partition of the points
+    # (_groups): only the groups that may hold a point closer than the row's farthest
+    # outsider are looked at. One pass over a block keeps the entries below the row's
+    # largest threshold (a rank's worth), and only those are compared with each of the
+    # row's thresholds; those within the error bound of one are decided by their exact
+    # distances (j itself among them: not closer than itself)
+    xc = x - x.mean(axis=0)
+    sq, x32, sq32, slack = _screen(xc)
+    groups = partition(xc, group_count(n))
+    far = far[np.argsort(groups.label[far], kind="stable")]
+    bounds = np.searchsorted(groups.label[far], np.arange(len(groups) + 1))
+    with single_blas_thread():
+        for g in range(len(groups)):
+            rows = far[bounds[g]:bounds[g + 1]]
+            if rows.size == 0:
+                continue
+            out = ~inside[rows]                                     # (b, k) outsiders
+            diff = xc[rows, None, :] - xc[emb[rows]]
+            dij = np.einsum("bkd,bkd->bk", diff, diff)
+            cols = groups.reach(g, float(dij[out].max()))
+            pos = np.searchsorted(cols, rows)
+            xcols, sqcols = x32[cols], sq32[cols]
+            t = dij - sq[rows, None]                    # on the estimates' scale
+            lo = np.where(out, t - slack[rows, None], -np.inf)
+            hi = np.where(out, t + slack[rows, None], -np.inf)
+            step = max(1, _LIST_CELLS // cols.size)
+            for s in range(0, rows.size, step):
+                r = rows[s:s + step]
+                est = x32[r] @ xcols.T
                 est *= -2.0
-                est += sq32[None, :]
-                est[np.arange(r.size), r] = np.inf      # a point is not its own neighbour
+                est += sqcols[None, :]
+                est[np.arange(r.size), pos[s:s + step]] = np.inf   # not its own neighbour
+                # the row's largest threshold, rounded up to the estimates' precision
+                top = np.nextafter(hi[s:s + step].max(axis=1).astype(est.dtype), np.inf)
+                flat = np.flatnonzero(est <= top[:, None])
+                below = np.zeros((r.size, k), dtype=np.int64)
+                if 4 * flat.size > est.size:    # a poor embedding: whole rows per threshold
+                    total += _dense_ranks(xc, est, r, cols, lo[s:s + step], hi[s:s + step],
+                                          dij[s:s + step], out[s:s + step], k)
+                    continue
+                owner, at = np.divmod(flat, cols.size)
+                vals = est.ravel()[flat].astype(np.float64)
+                del est
                 for c in range(k):
-                    out = np.flatnonzero(~inside[r, c])
-                    if out.size == 0:
-                        continue
-                    i, j = r[out], emb[r[out], c]
-                    dij = np.einsum("ij,ij->i", xc[i] - xc[j], xc[i] - xc[j])
-                    t = dij - sq[i]                     # on the estimates' scale
-                    rows_est = est[out]
-                    rows_est[np.arange(out.size), j] = np.inf     # j is not closer than j
-                    lo = (t - slack[i]).astype(est.dtype)[:, None]
-                    hi = (t + slack[i]).astype(est.dtype)[:, None]
-                    below = _count_rows(rows_est < lo)
-                    unsure = np.flatnonzero(_count_rows(rows_est <= hi) > below)
-                    if unsure.size:                     # estimates within the error bound
-                        band = rows_est[unsure]
-                        near_o, near_l = np.nonzero((band >= lo[unsure]) & (band <= hi[unsure]))
-                        near_o = unsure[near_o]
-                        diff = xc[near_l] - xc[i[near_o]]
-                        closer = np.einsum("ij,ij->i", diff, diff) < dij[near_o]
-                        below += np.bincount(near_o[closer], minlength=out.size)
-                    total += float(np.maximum(1 + below - k, 0).sum())
+                    lo_c, hi_c = lo[s + owner, c], hi[s + owner, c]
+                    below[:, c] = np.bincount(owner[vals < lo_c], minlength=r.size)
+                    near = np.flatnonzero((vals >= lo_c) & (vals <= hi_c))
+                    if near.size:                       # estimates within the error bound
+                        o, other = owner[near], cols[at[near]]
+                        dl = xc[other] - xc[r[o]]
+                        closer = np.einsum("ij,ij->i", dl, dl) < dij[s + o, c]
+                        below[:, c] += np.bincount(o[closer], minlength=r.size)
+                total += float(np.maximum(1 + below[out[s:s + step]] - k, 0).sum())
+    return total
+
+
+def _dense_ranks(xc: FloatArray, est: np.ndarray, r: IntpArray, cols: IntpArray,
+                 lo: FloatArray, hi: FloatArray, dij: FloatArray, out: np.ndarray, k: int
+                 ) -> float:
+    """The sum of ``max(0, r(i, j) - k)`` over the outsiders ``out`` of the rows ``r``,
+    from their whole rows of estimates ``est`` over ``cols``: per threshold, the entries
+    below ``lo`` (rounded down to the estimates' precision) count, those up to ``hi``
+    (rounded up) are decided by their exact distances."""
+    total = 0.0
+    for c in range(k):
+        o = np.flatnonzero(out[:, c])
+        if o.size == 0:
+            continue
+        rows_est = est[o]
+        lo_c = np.nextafter(lo[o, c].astype(est.dtype), -np.inf)[:, None]
+        hi_c = np.nextafter(hi[o, c].astype(est.dtype), np.inf)[:, None]
+        below = np.count_nonzero(rows_est < lo_c, axis=1)
+        near_o, near_l = np.nonzero((rows_est >= lo_c) & (rows_est <= hi_c))
+        if near_o.size:
+            dl = xc[cols[near_l]] - xc[r[o[near_o]]]
+            closer = np.einsum("ij,ij->i", dl, dl) < dij[o[near_o], c]
+            below += np.bincount(near_o[closer], minlength=o.size)
+        total += float(np.maximum(1 + below - k, 0).sum())
     return total
 
 
@@ -303,10 +352,3 @@ def _screen(xc: FloatArray, single: bool = True
     kind = np.float32 if single and top < 1e18 else np.float64
     slack = 4.0 * (xc.shape[1] + 2) * float(np.finfo(kind).eps) * (norms * top + top * top)
     return sq, xc.astype(kind, copy=False), sq.astype(kind, copy=False), slack
-
-
-def _count_rows(mask: np.ndarray) -> IntArray:
-    """``count_nonzero(mask, axis=1)``, by packing the bits and counting them (about twice
-    as fast)."""
-    counts: IntArray = np.bitwise_count(np.packbits(mask, axis=1)).sum(axis=1, dtype=np.int64)
-    return counts

@@ -19,9 +19,10 @@ from algorithms.core.errors import InvalidInputError
 from algorithms.core.params import Ge, Gt, PointsLike, Seed, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import query_workers, single_blas_thread
-from algorithms.core.types import FloatArray, IntArray
+from algorithms.core.types import FloatArray, IntArray, IntpArray
 from algorithms.core.validation import as_points
 from algorithms.embedding._fft_gradients import repulsion_fft
+from algorithms.embedding._groups import group_count, partition
 from algorithms.embedding._quality import _screen, fix_signs, trustworthiness
 
 __all__ = ["TSNEResult", "tsne", "check_tsne", "Method", "Start", "LearningRate", "METHODS",
@@ -143,6 +144,12 @@ def _nearest_neighbors(x: FloatArray, k: int) -> tuple[FloatArray, IntArray]:
     in double precision, so the result is exact (up to the order of exact ties).
     Several times faster than the kd-tree in 50 dimensions.
 
+    From :data:`~algorithms.embedding._groups.GROUPED_FROM` points the rows go group by
+    group of a partition (:mod:`~algorithms.embedding._groups`) and the columns are only
+    the groups that may hold a neighbour: an upper bound on each row's ``k``-th distance
+    comes from the nearest groups, and every group whose gap to the row's group exceeds
+    it is left out (exact still; on clustered data most of the ``n × n`` is skipped).
+
     Returns ``(d2, nbr)``, both ``(n, k)``."""
     n, dim = x.shape
     xc = x - x.mean(axis=0)
@@ -152,39 +159,81 @@ def _nearest_neighbors(x: FloatArray, k: int) -> tuple[FloatArray, IntArray]:
         own = found == np.arange(n)[:, None]
         own[~own.any(axis=1), -1] = True      # coincident points: self not returned
         return _exact_sorted(xc, np.arange(n), found[~own].reshape(n, k))
-    sq, x32, sq32, slack = _screen(xc)
-    wide = min(n - 1, k + _KNN_MARGIN)                  # candidates from single precision
-    rows = max(1, min(n, _KNN_CELLS // n, _KNN_CELLS // max(1, wide * dim)))
-    # the candidates' exact k-th distance below every other point's estimate minus the
-    # slack proves the k nearest exact; rows without the proof are redone in double
+    screen = _screen(xc)
+    groups = partition(xc, group_count(n))
     d2 = np.empty((n, k))
     nbr = np.empty((n, k), dtype=np.intp)
     with single_blas_thread():
-        for s in range(0, n, rows):
-            e = min(n, s + rows)
-            here = np.arange(e - s)
-            # ranking row i needs only -2 x_i.x_j + |x_j|^2 (|x_i|^2 is constant)
-            block = x32[s:e] @ x32.T
-            block *= -2.0
-            block += sq32[None, :]
-            block[here, here + s] = np.inf
-            if wide < n - 1:
-                part = np.argpartition(block, wide, axis=1)
-                beyond = block[here, part[:, wide]].astype(np.float64) + sq[s:e] - slack[s:e]
-                part = part[:, :wide]
-            else:                                       # every other point is a candidate
-                part = np.argpartition(block, wide - 1, axis=1)[:, :wide]
-                beyond = np.full(e - s, np.inf)
-            dd, pp = _exact_sorted(xc, s + here, part)
-            d2[s:e], nbr[s:e] = dd[:, :k], pp[:, :k]
-            redo = np.flatnonzero(~(dd[:, k - 1] < beyond))     # not proven (or NaN)
-            if redo.size:
-                r = s + redo
-                block = sq[None, :] - 2.0 * (xc[r] @ xc.T)
-                block[np.arange(r.size), r] = np.inf
-                part = np.argpartition(block, k - 1, axis=1)[:, :k]
-                d2[r], nbr[r] = _exact_sorted(xc, r, part)
+        for g in range(len(groups)):
+            rows = groups.members(g)
+            if len(groups) == 1:
+                cols = rows
+            else:
+                tau = _kth_bound(screen, rows, groups.nearest_groups(g, k + 1), k)
+                cols = groups.reach(g, tau)
+            _search_block(xc, screen, rows, cols, k, d2, nbr)
     return d2, nbr
+
+
+def _kth_bound(screen: tuple[FloatArray, Any, Any, FloatArray], rows: IntpArray,
+               cols: IntpArray, k: int) -> float:
+    """An upper bound on the squared distance of every point of ``rows`` to its ``k``-th
+    nearest neighbour: the largest ``k``-th smallest estimate over ``cols`` (which hold
+    the rows and at least ``k`` others), plus the estimates' error bound."""
+    sq, x32, sq32, slack = screen
+    pos = np.searchsorted(cols, rows)
+    xcols, sqcols = x32[cols], sq32[cols]
+    step = max(1, _KNN_CELLS // cols.size)
+    tau = 0.0
+    for s in range(0, rows.size, step):
+        r = rows[s:s + step]
+        block = x32[r] @ xcols.T
+        block *= -2.0
+        block += sqcols[None, :]
+        block[np.arange(r.size), pos[s:s + step]] = np.inf
+        kth = np.partition(block, k - 1, axis=1)[:, k - 1].astype(np.float64)
+        tau = max(tau, float((kth + sq[r] + slack[r]).max()))
+    return tau
+
+
+def _search_block(xc: FloatArray, screen: tuple[FloatArray, Any, Any, FloatArray],
+                  rows: IntpArray, cols: IntpArray, k: int, d2: FloatArray,
+                  nbr: IntpArray) -> None:
+    """The ``k`` nearest of ``cols`` (sorted, holding ``rows``) to each point of ``rows``,
+    written to its rows of ``d2`` and ``nbr`` (see :func:`_nearest_neighbors`)."""
+    sq, x32, sq32, slack = screen
+    n, dim = xc.shape
+    m = cols.size
+    pos = np.searchsorted(cols, rows)
+    xcols, sqcols = x32[cols], sq32[cols]
+    wide = min(m - 1, k + _KNN_MARGIN)                  # candidates from single precision
+    step = max(1, min(rows.size, _KNN_CELLS // m, _KNN_CELLS // max(1, wide * dim)))
+    # the candidates' exact k-th distance below every other point's estimate minus the
+    # slack proves the k nearest exact; rows without the proof are redone in double
+    for s in range(0, rows.size, step):
+        r = rows[s:s + step]
+        here = np.arange(r.size)
+        # ranking row i needs only -2 x_i.x_j + |x_j|^2 (|x_i|^2 is constant)
+        block = x32[r] @ xcols.T
+        block *= -2.0
+        block += sqcols[None, :]
+        block[here, pos[s:s + step]] = np.inf
+        if wide < m - 1:
+            part = np.argpartition(block, wide, axis=1)
+            beyond = block[here, part[:, wide]].astype(np.float64) + sq[r] - slack[r]
+            part = part[:, :wide]
+        else:                                       # every other point is a candidate
+            part = np.argpartition(block, wide - 1, axis=1)[:, :wide]
+            beyond = np.full(r.size, np.inf)
+        dd, pp = _exact_sorted(xc, r, cols[part])
+        d2[r], nbr[r] = dd[:, :k], pp[:, :k]
+        redo = np.flatnonzero(~(dd[:, k - 1] < beyond))     # not proven (or NaN)
+        if redo.size:
+            rr = r[redo]
+            block = sq[cols][None, :] - 2.0 * (xc[rr] @ xc[cols].T)
+            block[np.arange(rr.size), pos[s:s + step][redo]] = np.inf
+            part = np.argpartition(block, k - 1, axis=1)[:, :k]
+            d2[rr], nbr[rr] = _exact_sorted(xc, rr, cols[part])
 
 
 def _exact_sorted(xc: FloatArray, rows: IntArray, part: IntArray
@@ -652,10 +701,16 @@ def tsne(
     columns are sign-fixed (entry of largest magnitude positive), which changes neither
     KL nor trustworthiness.
 
-    ``method="fft"``: the nearest neighbours are exact (openTSNE's are approximate,
-    Annoy); above 8 input dimensions they come from blocks of the distance matrix by
-    one BLAS product each and ``argpartition`` (a kd-tree visits nearly every point in
-    50 dimensions; this is several times faster), else from a kd-tree. The FFT
+    ``method="fft"``: the nearest neighbours are exact, recall 1 (openTSNE's are
+    approximate, Annoy); above 8 input dimensions they come from blocks of the distance
+    matrix by one BLAS product each and ``argpartition`` (a kd-tree visits nearly every
+    point in 50 dimensions; this is several times faster), else from a kd-tree. From
+    5,000 points the rows go group by group of a k-means partition of the points, and a
+    group's columns are only the groups that may hold a neighbour by the triangle
+    inequality (its gap to them below an upper bound on its rows' :math:`k`-th
+    distance, from the nearest groups): still exact, and on clustered data most of the
+    :math:`n \times n` distances are never computed (30,000 points in 20 clusters,
+    50-D: 5× faster); on data without clusters nothing is pruned. The FFT
     repulsion (:mod:`algorithms.embedding._fft_gradients`) interpolates with 4 Lagrange
     nodes per box of side at most 1, at least 50 boxes per dimension (openTSNE uses 3
     nodes; with 3 the final KL here came out 3-4 % above openTSNE's, with 4 about 1 %),
@@ -683,7 +738,8 @@ def tsne(
     Cost: exact :math:`O(n^2)` per step; fft :math:`O(n k_P + N^2 \log N)` per step with
     :math:`k_P \approx 3\,\text{perplexity}` stored pairs per point and :math:`N` the grid
     nodes per side (about 4× the embedding's extent, at least 100), plus the neighbour
-    search once (:math:`O(n^2 D)` above 8 dimensions, in blocks).
+    search once (:math:`O(n^2 D)` above 8 dimensions at worst, in blocks; about
+    :math:`O(n\, m D)` on data in clusters of :math:`m` points).
 
     References
     ----------
