@@ -173,17 +173,18 @@ class _Problem:
         self.flip = 0
         self.scratch = np.empty_like(src)
         self.disp = np.empty(n)
-        self.y = np.empty_like(src)
         self.yc = np.empty_like(src)
-        # what the last query proved (see nearest): each point's partner, and a distance
-        # within which no other target point lies, lowered by how far the points moved since
+        # what the last query proved (see nearest): each point's partner, a distance within
+        # which no other target point lay then, and where the point was then
         self.partner: IntArray | None = None
         self.slack = np.empty(n)
+        self.anchor = np.empty_like(src)
         self.half_gap: FloatArray | None = None
         self.reach = float(np.sqrt(np.max(np.einsum("ij,ij->i", self.xc, self.xc))))
         self.extent = self.reach + float(np.linalg.norm(self.x_mean)) + \
             float(np.max(np.abs(dst)))
         self.tree = cKDTree(dst)
+        self.dst_order: IntArray = self.tree.indices  # the target in spatial order
         centred = dst - dst.mean(axis=0)
         self.size = math.sqrt(float(np.einsum("ij,ij->", centred, centred)) / len(dst)) or 1.0
         self.tgt_normals: FloatArray | None = None
@@ -238,8 +239,8 @@ class _Problem:
         most ``δ``, no other target point lies within ``d2 - δ`` (triangle inequality), so
         the partner is still the nearest when its new distance is below ``d2 - δ``: then
         it is kept, and only the other points are queried. ``δ`` is each point's own
-        displacement between the two moved copies (as computed, with a relative margin for
-        rounding), summed over the iterations since the point's last query. The kept
+        displacement since its last query (as computed, with a relative margin for
+        rounding; not the sum of the steps between, which is never smaller). The kept
         distance is computed as the tree computes it (the same bits); ties ``d1 = d2`` are
         queried again for the tree's own choice. The second neighbour costs about 20% more
         per query and is always asked for: with per-point displacements, slowly converging
@@ -257,19 +258,20 @@ class _Problem:
             if self.half_gap is None:
                 self.half_gap = self._half_gaps(bound)
             tol = KEEP_RTOL * (self.extent + float(np.linalg.norm(transform[:d, d])))
-            # how far each point moved since the last match (its buffer: see match), as
-            # computed: the triangle inequality per point, not a bound over all of them
-            diff = np.subtract(moved, self.moved[self.flip], out=self.scratch)
+            # how far each point moved since its last query, as computed: the triangle
+            # inequality per point, not a bound over all of them
+            diff = np.subtract(moved, self.anchor, out=self.scratch)
             np.multiply(diff, diff, out=diff)
-            disp = np.sqrt(diff.sum(axis=1), out=self.disp)
+            disp = np.sqrt(_row_sums(diff, self.disp), out=self.disp)
             disp *= 1 + KEEP_RTOL
             disp += tol
-            self.slack -= disp
             diff = np.take(self.dst, self.partner, axis=0, mode="clip")  # m: never kept
             np.subtract(moved, diff, out=diff)
             np.multiply(diff, diff, out=diff)
-            dist = np.sqrt(diff.sum(axis=1))  # as cKDTree sums: the same bits
-            keep = dist < self.slack
+            dist = _row_sums(diff, np.empty(self.n))  # as cKDTree sums: the same bits
+            np.sqrt(dist, out=dist)
+            disp += dist
+            keep = disp < self.slack
             keep |= dist < np.take(self.half_gap, self.partner) - tol
             rest = np.flatnonzero(~keep)
             idx = self.partner.copy()
@@ -282,7 +284,7 @@ class _Problem:
             pts, k=2, distance_upper_bound=bound, workers=workers))
         near, nearest = two[:, 0].copy(), which[:, 0].copy()
         tie = np.flatnonzero((two[:, 0] == two[:, 1]) & np.isfinite(two[:, 0]))
-        if tie.size:  # the tree's own pick among equals, as a one-neighbour query makes it
+        if tie.size:  # the tree's own pick among equals, as a one-neighbour query does
             _, nearest[tie] = cast(KnnQuery, self.tree.query(
                 pts[tie], distance_upper_bound=bound, workers=1))
         slack = np.where(np.isfinite(two[:, 1]), two[:, 1], bound) * (1 - KEEP_RTOL)
@@ -290,8 +292,10 @@ class _Problem:
         if every:
             self.partner = nearest
             self.slack[:] = slack
+            self.anchor[:] = moved
             return near, nearest
         dist[rest], idx[rest], self.slack[rest] = near, nearest, slack
+        self.anchor[rest] = pts
         self.partner = idx
         return dist, idx
 
@@ -301,10 +305,11 @@ class _Problem:
         point has it as its unique nearest (any other is at least the whole gap from it);
         ``-inf`` for the index ``m`` of "no partner"."""
         m = self.dst.shape[0]
+        order = self.dst_order  # queried in the tree's own (spatial) order: cache-friendly
         two, _ = cast(tuple[FloatArray, IntArray], self.tree.query(
-            self.dst, k=2, workers=query_workers(m)))
+            self.dst[order], k=2, workers=query_workers(m)))
         out = np.full(m + 1, -math.inf)
-        out[:m] = np.minimum(0.5 * two[:, 1], bound) * (1 - KEEP_RTOL)
+        out[order] = np.minimum(0.5 * two[:, 1], bound) * (1 - KEEP_RTOL)
         return out
 
     def weights(self, residual: FloatArray) -> FloatArray | None:
@@ -339,7 +344,7 @@ class _Problem:
         every = m.src.size == self.n
         x = self.src if every else np.take(self.src, m.src, axis=0)
         # np.take: faster than fancy indexing, the same values
-        y = np.take(self.dst, m.tgt, axis=0, out=self.y[:m.tgt.size])
+        y = np.take(self.dst, m.tgt, axis=0)
         w = self.weights(m.dist)
         if w is not None and not w.any():
             raise DegenerateInputError("every correspondence has zero weight under the "
@@ -715,6 +720,16 @@ def icp(
 
 
 # --- helpers ------------------------------------------------------------------------------
+
+
+def _row_sums(a: FloatArray, out: FloatArray) -> FloatArray:
+    """``a.sum(axis=1)`` for a few columns, added column by column left to right: the same
+    order (the same bits) as the tree's distance and numpy's own row sum, 3-5 times faster
+    than the latter's reduction over short rows."""
+    np.add(a[:, 0], a[:, 1], out=out) if a.shape[1] > 1 else np.copyto(out, a[:, 0])
+    for c in range(2, a.shape[1]):
+        out += a[:, c]
+    return out
 
 
 def _min_pairs(model: str, metric: str, d: int) -> tuple[int, str]:
