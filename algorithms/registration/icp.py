@@ -366,34 +366,48 @@ class _Problem:
 
     def _plane_step(self, transform: FloatArray, m: _Match) -> FloatArray:
         assert self.tgt_normals is not None and self.tgt_ok is not None
-        p, q = m.moved[m.src], self.dst[m.tgt]
-        n = self.tgt_normals[m.tgt]
-        ok = self.tgt_ok[m.tgt]
-        if self.metric == "symmetric":
-            assert self.src_normals is not None
-            ns = self.src_normals[m.src] @ transform[:3, :3].T   # rigid: stays unit
-            ns = ns * np.where(np.einsum("ij,ij->i", ns, n) < 0, -1.0, 1.0)[:, None]
-            n = ns + n
+        # every product by columns ((3, k) rows of the pairs): no (k, 3) temporaries, no
+        # BLAS call on thin matrices but the two small Gram products
+        every = m.src.size == self.n
+        p = m.moved if every else np.take(m.moved, m.src, axis=0)
+        q = np.take(self.dst, m.tgt, axis=0)
+        n = np.take(self.tgt_normals, m.tgt, axis=0).T
         centre = p.mean(axis=0)
         # the symmetric objective centres each set at its own centroid (Rusinkiewicz 2019):
         # x -> q̄ + R½(R½(x - p̄) + t), exact in one step for an exact rigid motion
         q_centre = q.mean(axis=0) if self.metric == "symmetric" else centre
-        radius = math.sqrt(float(np.mean(np.einsum("ij,ij->i", p - centre, p - centre))))
+        pc = np.subtract(p, centre).T
+        radius = math.sqrt(float(np.einsum("ij,ij->", pc, pc)) / max(pc.shape[1], 1))
         radius = radius if radius > 0 else 1.0
-        ph, qh = (p - centre) / radius, (q - q_centre) / radius
-        r = np.einsum("ij,ij->i", ph - qh, n)
+        ph = np.divide(pc, radius, out=np.empty(pc.shape))    # (3, k), rows contiguous
+        qh = np.subtract(q, q_centre).T
+        qh = np.divide(qh, radius, out=np.empty(qh.shape))
+        nr = np.ascontiguousarray(n)
         if self.metric == "symmetric":
-            jac = np.hstack([np.cross(ph + qh, n), n])
-        elif self.model == "rigid":
-            jac = np.hstack([np.cross(ph, n), n])
-        elif self.model == "similarity":
-            jac = np.hstack([np.cross(ph, n), np.einsum("ij,ij->i", ph, n)[:, None], n])
-        else:
-            jac = np.hstack([(n[:, :, None] * ph[:, None, :]).reshape(-1, 9), n])
+            assert self.src_normals is not None
+            ns = transform[:3, :3] @ (self.src_normals if every else np.take(
+                self.src_normals, m.src, axis=0)).T             # rigid: stays unit
+            flip = _col_dot(ns, nr) < 0
+            ns[:, flip] *= -1.0
+            nr += ns
+        r = _col_dot(ph - qh, nr)
+        arm = ph + qh if self.metric == "symmetric" else ph
+        rows = [arm[1] * nr[2] - arm[2] * nr[1], arm[2] * nr[0] - arm[0] * nr[2],
+                arm[0] * nr[1] - arm[1] * nr[0]]
+        if self.model == "similarity":
+            rows.append(_col_dot(ph, nr))
+        elif self.model == "affine":
+            rows = [nr[i] * ph[j] for i in range(3) for j in range(3)]
+        jac = np.empty((len(rows) + 3, r.size))
+        for i, row in enumerate(rows):
+            jac[i] = row
+        jac[len(rows):] = nr
         w = self.weights(r * radius)
+        ok = np.take(self.tgt_ok, m.tgt)
         w = ok if w is None else w * ok
-        normal = (jac * w[:, None]).T @ jac
-        rhs = -(jac * w[:, None]).T @ r
+        jw = jac * w
+        normal = jw @ jac.T
+        rhs = -(jw @ r)
         scale = float(np.abs(normal).max()) if normal.size else 0.0
         eig = np.linalg.eigvalsh(normal / scale) if scale > 0 else np.zeros(jac.shape[1])
         if not eig[0] > RANK_RTOL * max(eig[-1], 0.0) or not eig[-1] > 0:
@@ -720,6 +734,14 @@ def icp(
 
 
 # --- helpers ------------------------------------------------------------------------------
+
+
+def _col_dot(a: FloatArray, b: FloatArray) -> FloatArray:
+    """The dot products of the columns of two ``(3, k)`` arrays."""
+    out: FloatArray = a[0] * b[0]
+    out += a[1] * b[1]
+    out += a[2] * b[2]
+    return out
 
 
 def _row_sums(a: FloatArray, out: FloatArray) -> FloatArray:
