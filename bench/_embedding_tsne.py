@@ -14,18 +14,23 @@ defaults: ours 250 + 500 steps (openTSNE's schedule), openTSNE 250 + 500 (its de
 ``n_jobs=1``), scikit-learn 1,000 steps (``max_iter``) with its default threads (OpenMP);
 under the one-thread policy every pool is held to one thread.
 
-    python bench/_embedding_tsne.py [--quick | --large] [--big 100000]
+    python bench/_embedding_tsne.py [--quick | --large | --n 100000] [--big 100000]
+    python bench/_embedding_tsne.py --memory [--quick | --large | --n 100000]
 
 ``--big N`` (0 to skip) also embeds N points of the same kind once and prints the time
 and the peak memory (tracemalloc of the call, and the process's peak RSS). openTSNE is
-optional (a ``bench`` extra); without it only scikit-learn is compared. A benchmark never
+optional (a ``bench`` extra); without it only scikit-learn is compared. ``--memory``
+prints instead the peak memory of each side (:func:`memory`: tracemalloc of the call and
+the peak RSS of a fresh process per side). A benchmark never
 asserts.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import resource
+import subprocess
 import sys
 import time
 import tracemalloc
@@ -117,15 +122,63 @@ def big_run(n: int) -> None:
           f"peak traced memory {peak / 2**20:.0f} MiB, process peak RSS {rss:.0f} MiB")
 
 
+def _peak_of(side: str, n: int) -> None:
+    """In this (fresh) process: make the data, then run one side on it under tracemalloc;
+    print one line of JSON: the traced peak of the call and the process's peak RSS before
+    and after it."""
+    x = data(n)
+    rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    tracemalloc.start()
+    t = time.perf_counter()
+    if side == "ours":
+        tsne(x)
+    else:
+        openTSNE.TSNE(random_state=0).fit(x)
+    elapsed = time.perf_counter() - t
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps({"side": side, "n": n, "seconds": elapsed, "traced_peak_mib": peak / 2**20,
+                      "rss_before_mib": rss0, "rss_peak_mib": rss}), flush=True)
+
+
+def memory(n: int) -> None:
+    """Peak memory of each side on ``n`` points, each in a fresh process (ours, openTSNE,
+    ours, openTSNE: the RSS of a process is its own high-water mark): tracemalloc's peak
+    of the call (numpy's and Python's allocations, openTSNE's C++ ones not seen) and the
+    peak RSS (everything, imports and the data included; the RSS before the call given
+    too). Under tracemalloc the calls run slower: these are not timings."""
+    for side in ("ours", "openTSNE"):
+        done = subprocess.run([sys.executable, __file__, "--peak-of", side, "--n", str(n)],
+                              check=True, capture_output=True, text=True)
+        r = json.loads(done.stdout.strip().splitlines()[-1])
+        print(f"t-SNE n={n:,}x50 {side:8s}: traced peak {r['traced_peak_mib']:7.0f} MiB, "
+              f"peak RSS {r['rss_peak_mib']:7.0f} MiB (before the call "
+              f"{r['rss_before_mib']:.0f} MiB), {r['seconds']:.1f} s under tracemalloc",
+              flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="2,000 points, not 10,000")
     parser.add_argument("--large", action="store_true", help="30,000 points, not 10,000")
+    parser.add_argument("--n", type=int, default=0, help="points of the rows (overrides "
+                        "--quick and --large; e.g. 100000)")
     parser.add_argument("--big", type=int, default=100_000, help="points of the big run "
                         "(0: skip)")
+    parser.add_argument("--memory", action="store_true", help="only the peak memory of "
+                        "each side on the rows' points, each in a fresh process")
+    parser.add_argument("--peak-of", choices=("ours", "openTSNE"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     apply_policy()
-    case_tsne(tsne_points(args.quick, args.large))
+    n = args.n or tsne_points(args.quick, args.large)
+    if args.peak_of:
+        _peak_of(args.peak_of, n)
+        return
+    if args.memory:
+        memory(n)
+        return
+    case_tsne(n)
     report("t-SNE")
     if args.big:
         big_run(args.big)

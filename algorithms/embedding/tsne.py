@@ -381,29 +381,34 @@ class _SparseAttraction:
         self.a = rows[order]
         self.b = up.indices[order].astype(np.intp)
         self.pij = up.data[order]
+        self.pij32 = self.pij.astype(np.float32)
         self.plogp = 2.0 * _plogp(up)
 
     def __call__(self, y: FloatArray, want_kl: bool) -> tuple[FloatArray, float]:
         n, d = y.shape
         # in 2-D a point is one complex number: one gather and one scatter per pair end
-        # (not two); in 1-D the imaginary parts stay 0
-        z = y[:, 0] + 1j * y[:, 1] if d == 2 else y[:, 0].astype(np.complex128)
-        att = np.zeros(n, dtype=np.complex128)
+        # (not two); in 1-D the imaginary parts stay 0. Single precision (complex64):
+        # half the memory traffic, a third less time; the forces' relative error is about
+        # 1e-5, against 5e-3 for the FFT repulsion they are balanced with
+        z = (y[:, 0] + 1j * y[:, 1] if d == 2 else y[:, 0]).astype(np.complex64)
+        att = np.zeros(n, dtype=np.complex64)
         plogw = 0.0
         for s in range(0, self.a.size, _PAIR_CHUNK):
             a = self.a[s:s + _PAIR_CHUNK]
             b = self.b[s:s + _PAIR_CHUNK]
-            pij = self.pij[s:s + _PAIR_CHUNK]
             diff = z[a]
             diff -= z[b]
-            parts = diff.view(np.float64)
-            parts = parts * parts
-            d2 = parts[0::2]
-            d2 += parts[1::2]                           # |y_i - y_j|²
-            if want_kl:                                 # log w = -log(1 + d²)
-                plogw -= float(np.dot(pij, np.log1p(d2)))
+            parts = diff.view(np.float32)
+            sq = parts * parts
+            d2 = sq[0::2]
+            d2 += sq[1::2]                              # |y_i - y_j|²
+            if want_kl:                                 # log w = -log(1 + d²), in double
+                plogw -= float(np.dot(self.pij[s:s + _PAIR_CHUNK],
+                                      np.log1p(d2.astype(np.float64))))
             d2 += 1.0
-            diff *= np.divide(pij, d2, out=d2)          # p_ij w_ij (y_i - y_j)
+            w = np.divide(self.pij32[s:s + _PAIR_CHUNK], d2, out=d2)
+            parts[0::2] *= w                            # p_ij w_ij (y_i - y_j)
+            parts[1::2] *= w
             np.add.at(att, a, diff)
             np.subtract.at(att, b, diff)
         out = np.empty((n, d))
@@ -718,7 +723,8 @@ def tsne(
     precision); :math:`Z` comes from the same transform of the charges by Parseval's
     identity; the repulsion's median relative error is about 0.5 %. The attractive
     forces visit each stored pair of :math:`P` once per step (the upper triangle, in
-    chunks, scattered to both ends). All sums run in a fixed order: the same ``seed``
+    chunks, scattered to both ends) in single precision (their relative error about
+    1e-5, against 5e-3 for the repulsion). All sums run in a fixed order: the same ``seed``
     gives the same bits. Everything runs in one thread (BLAS limited to one).
 
     Three readings of t-SNE. As a mixture model: SNE's Gaussian mixture in the embedding
@@ -779,6 +785,7 @@ def tsne(
     else:
         p_sparse, input_d2, input_nbr = _sparse_affinities(x, perp)
         attraction = _SparseAttraction(p_sparse)
+        del p_sparse                                # the attraction holds its own copy
 
         def gradient(yy: FloatArray, alpha: float, want: bool) -> tuple[float, FloatArray]:
             att, plogw = attraction(yy, want)

@@ -181,13 +181,17 @@ def test_sparse_attraction_matches_dense(monkeypatch: pytest.MonkeyPatch) -> Non
     att, plogw = _SparseAttraction(p)(y, True)
     monkeypatch.setattr(sys.modules["algorithms.embedding.tsne"], "_PAIR_CHUNK", 1000)
     att_chunks, plogw_chunks = _SparseAttraction(p)(y, True)
-    np.testing.assert_allclose(att_chunks, att, rtol=1e-12, atol=1e-18)
+    # single precision (complex64) forces: the chunks change numpy's loops, not the sums'
+    # order, and the results agree to float32's rounding
+    scale = float(np.abs(att).max())
+    np.testing.assert_allclose(att_chunks, att, rtol=1e-5, atol=1e-6 * scale)
     assert plogw_chunks == pytest.approx(plogw, rel=1e-12)
     pd = p.toarray()
     diff = y[:, None, :] - y[None, :, :]
     w = 1.0 / (1.0 + (diff ** 2).sum(-1))
-    np.testing.assert_allclose(att, ((pd * w)[:, :, None] * diff).sum(1), atol=1e-14)
-    assert plogw == pytest.approx(float((pd[pd > 0] * np.log(w[pd > 0])).sum()))
+    np.testing.assert_allclose(att, ((pd * w)[:, :, None] * diff).sum(1), rtol=1e-5,
+                               atol=1e-6 * scale)
+    assert plogw == pytest.approx(float((pd[pd > 0] * np.log(w[pd > 0])).sum()), rel=1e-6)
 
 
 #: scikit-learn's exact t-SNE with every part of its schedule stated, so that the comparison
