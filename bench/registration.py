@@ -6,7 +6,7 @@ was allowed and the accuracy of every seed (rotation error in degrees against th
 rotation, translation error, iterations). ``bench/run.py`` runs this file once per thread
 policy.
 
-    python bench/registration.py [--quick]
+    python bench/registration.py [--quick | --large]
 
 Cases:
 
@@ -19,6 +19,13 @@ Cases:
   + ``cKDTree`` loop (query with the policy's ``workers``, Kabsch by SVD, compose);
 - ICP point_to_plane, the same pairs, 30 iterations on both sides, both given the same
   target normals (Open3D's 10-nearest estimate, made outside the timing);
+- ICP symmetric (Rusinkiewicz 2019) against Open3D's ``registration_symmetric_icp``, the
+  same pairs, 30 iterations, both given the same source and target normals (Open3D's
+  source cloud with normals is a separate copy: Open3D transforms a cloud's normals with
+  its points every iteration, which the other rows must not pay for);
+- ``--large``: ICP point_to_point at 1,000,000 points a side against Open3D, 10 iterations
+  (the first, costliest ones: a 30-iteration run takes minutes a side), one run per seed,
+  the warm-up on the 10,000-point case; nothing else;
 - under the default policy only: ours at default threads against ours pinned to one core in
   the same process (``one_core``), for ICP (default stop) and CPD: default must never be
   slower;
@@ -131,7 +138,7 @@ def pose_error(d: dict[str, Any], tf: Any) -> dict[str, float]:
     return out
 
 
-def case_icp(n: int) -> None:
+def case_icp(n: int, iterations: int = ITERATIONS, large: bool = False) -> None:
     try:
         import open3d as o3d  # noqa: PLC0415 - optional peer
     except ImportError:
@@ -140,27 +147,39 @@ def case_icp(n: int) -> None:
 
     def ours(tol: float, metric: str = "point_to_point") -> Any:
         def run(d: dict[str, Any]) -> Any:
-            res = icp(d["src"], d["dst"], max_iterations=ITERATIONS, tolerance=tol,
+            res = icp(d["src"], d["dst"], max_iterations=iterations, tolerance=tol,
                       max_correspondence_distance=MAX_DIST, metric=metric,
                       target_normals=d.get("normals") if metric != "point_to_point"
+                      else None,
+                      source_normals=d.get("src_normals") if metric == "symmetric"
                       else None)
             return res.transform, res.iterations
         return run
 
-    def data(seed: int) -> dict[str, Any]:
-        d = icp_pair(n, seed)
-        if o3d is not None:  # the clouds are Open3D's input format, made outside the timing
-            a, b = o3d.geometry.PointCloud(), o3d.geometry.PointCloud()
-            a.points = o3d.utility.Vector3dVector(d["src"])
-            b.points = o3d.utility.Vector3dVector(d["dst"])
-            d["o3d"] = (a, b)
-            # the target's normals for the plane metric, made once (Open3D's 10 nearest),
-            # outside the timing: both sides use the same ones
-            b.estimate_normals(o3d.geometry.KDTreeSearchParamKNN(10))
-            d["normals"] = np.asarray(b.normals).copy()
-        return d
+    def data_of(size: int) -> Callable[[int], dict[str, Any]]:
+        def data(seed: int) -> dict[str, Any]:
+            d = icp_pair(size, seed)
+            if o3d is not None:  # Open3D's input format, made outside the timing
+                a, b = o3d.geometry.PointCloud(), o3d.geometry.PointCloud()
+                a.points = o3d.utility.Vector3dVector(d["src"])
+                b.points = o3d.utility.Vector3dVector(d["dst"])
+                d["o3d"] = (a, b)
+                if not large:
+                    # the normals of the plane metrics, made once (Open3D's 10 nearest),
+                    # outside the timing: both sides use the same ones
+                    b.estimate_normals(o3d.geometry.KDTreeSearchParamKNN(10))
+                    d["normals"] = np.asarray(b.normals).copy()
+                    a2 = o3d.geometry.PointCloud(a)  # a copy: only this one has normals
+                    a2.estimate_normals(o3d.geometry.KDTreeSearchParamKNN(10))
+                    d["src_normals"] = np.asarray(a2.normals).copy()
+                    d["o3d_sym"] = (a2, b)
+            return d
+        return data
 
+    data = data_of(n)
     label = f"ICP p2p {n:,}↔{n:,}"
+    if large and o3d is None:
+        return
     kd = "kd-tree workers -1 from 8,192 points (1 core under the 1-thread policy)"
     if o3d is not None:
         reg = o3d.pipelines.registration
@@ -168,7 +187,7 @@ def case_icp(n: int) -> None:
 
         def o3d_icp(rel: float) -> Any:
             crit = reg.ICPConvergenceCriteria(relative_fitness=rel, relative_rmse=rel,
-                                              max_iteration=ITERATIONS)
+                                              max_iteration=iterations)
 
             def run(d: dict[str, Any]) -> Any:
                 a, b = d["o3d"]
@@ -176,6 +195,12 @@ def case_icp(n: int) -> None:
                                                        crit).transformation)
             return run
 
+        if large:
+            compare("registration", f"{label}, {iterations} iterations", data, ours(0.0),
+                    o3d_icp(0.0), pose_error, peer_name="Open3D registration_icp",
+                    ours_threads=kd, peer_threads="TBB (open3d.utility.set_max_threads)",
+                    warmup=lambda: data_of(10_000)(0), repeats=1)
+            return
         compare("registration", f"{label}, 30 iterations", data, ours(0.0), o3d_icp(0.0),
                 pose_error, peer_name="Open3D registration_icp", ours_threads=kd,
                 peer_threads="TBB (open3d.utility.set_max_threads)")
@@ -195,6 +220,19 @@ def case_icp(n: int) -> None:
                 "target normals)", data, ours(0.0, "point_to_plane"), o3d_plane, pose_error,
                 peer_name="Open3D registration_icp", ours_threads=kd,
                 peer_threads="TBB (open3d.utility.set_max_threads)")
+        sym = reg.TransformationEstimationSymmetric()
+
+        def o3d_symmetric(d: dict[str, Any]) -> Any:
+            a, b = d["o3d_sym"]
+            crit = reg.ICPConvergenceCriteria(relative_fitness=0.0, relative_rmse=0.0,
+                                              max_iteration=ITERATIONS)
+            return np.asarray(reg.registration_symmetric_icp(a, b, MAX_DIST, np.eye(4), sym,
+                                                             crit).transformation)
+
+        compare("registration", f"ICP symmetric {n:,}↔{n:,}, 30 iterations (the same source "
+                "and target normals)", data, ours(0.0, "symmetric"), o3d_symmetric,
+                pose_error, peer_name="Open3D registration_symmetric_icp", ours_threads=kd,
+                peer_threads="TBB (open3d.utility.set_max_threads)")
     if self_rows():  # goal: ours at default threads never slower than ours on one core
         compare("registration", f"{label}, default stop: ours default threads vs one core",
                 data, ours(1e-6), one_core(ours(1e-6)), pose_error,
@@ -209,8 +247,14 @@ def case_icp(n: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="the small sizes only")
+    parser.add_argument("--large", action="store_true",
+                        help="ICP point_to_point at 1,000,000 points a side only")
     args = parser.parse_args()
     apply_policy()
+    if args.large:
+        case_icp(1_000_000, iterations=10, large=True)
+        report("registration")
+        return
     for n in (10_000,) if args.quick else (10_000, 100_000):
         case_icp(n)
     from _reg_cpd import case_cpd  # noqa: PLC0415
