@@ -269,8 +269,7 @@ class _Problem:
             dist = _row_sums(diff, np.empty(self.n))  # as cKDTree sums: the same bits
             np.sqrt(dist, out=dist)
             disp += dist
-            keep = disp < self.slack
-            rest = np.flatnonzero(~keep)
+            rest = np.flatnonzero(disp >= self.slack)
             idx = self.partner.copy()
         every = rest is None or rest.size == self.n
         pts = moved if every else np.take(moved, cast(IntArray, rest), axis=0)
@@ -280,12 +279,15 @@ class _Problem:
         two, which = cast(tuple[FloatArray, IntArray], self.tree.query(
             pts, k=2, distance_upper_bound=bound, workers=workers))
         near, nearest = two[:, 0].copy(), which[:, 0].copy()
-        tie = np.flatnonzero((two[:, 0] == two[:, 1]) & np.isfinite(two[:, 0]))
+        tie = np.flatnonzero(two[:, 0] == two[:, 1])
+        if tie.size:
+            tie = tie[np.isfinite(near[tie])]  # both inf: no partner, not a tie
         if tie.size:  # the tree's own pick among equals, as a one-neighbour query does
             _, nearest[tie] = cast(KnnQuery, self.tree.query(
                 pts[tie], distance_upper_bound=bound, workers=1))
-        slack = np.where(np.isfinite(two[:, 1]), two[:, 1], bound) * (1 - KEEP_RTOL)
-        slack[~np.isfinite(near)] = -math.inf  # no partner: queried every time
+        slack = np.minimum(two[:, 1], bound)  # no second within the bound: the bound
+        slack *= 1 - KEEP_RTOL
+        slack[near == math.inf] = -math.inf  # no partner: queried every time
         if every:
             self.partner = nearest
             self.slack[:] = slack
