@@ -198,7 +198,8 @@ def main() -> None:
                                              "data": base64.b64encode(a.tobytes()).decode()}
                                       for name, a in (("source", X), ("target", Y))}})
     configs = (("fast path", {}, (("JSON lists", body), ("binary", binary))),
-               ("through Dask", {"MORPHSERVE_FAST_PATH_BYTES": "0"}, (("JSON lists", body),)))
+               ("through Dask", {"MORPHSERVE_FAST_PATH_BYTES": "0"},
+                (("JSON lists", body), ("binary", binary))))
     measured: dict[str, tuple[list[float], list[float], list[float], float]] = {}
     floor: list[float] = []
     with contextlib.ExitStack() as stack:

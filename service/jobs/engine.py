@@ -2,7 +2,10 @@
 
 Embedded (default): a :class:`distributed.LocalCluster` with process workers, one thread each,
 and its scheduler in a process of its own (:mod:`service.jobs.scheduler`), started with the
-service. External: ``MORPHSERVE_SCHEDULER=tcp://host:8786``; tasks are then
+service. Its jobs are sent to its workers directly (:mod:`service.jobs.direct`: one call on a
+kept TLS comm instead of the scheduler's chain of messages), but for those of ``long``
+processes, which go through the scheduler (their own tasks need it, its cost is nothing to
+them). External: ``MORPHSERVE_SCHEDULER=tcp://host:8786``; tasks are then
 submitted with ``fire_and_forget`` and the workers write their outputs to the shared data dir,
 so work survives a restarting API.
 
@@ -25,9 +28,10 @@ and goes on as any other.
 For every job the engine keeps a :class:`_Handle` and a watcher task that records the outcome
 in the store and wakes the requests waiting on it (``Prefer: wait``). Progress events
 (``log_event`` on :data:`~service.jobs.runner.TOPIC`, or direct calls on the fast path) update
-the rows. Dismissal sets the job's ``distributed.Event`` (or its in-process flag), which the
-runner's progress callback sees; a Dask job that outlives its time limit by :data:`GRACE`
-seconds without cooperating gets its worker restarted.
+the rows. Dismissal sets the job's ``distributed.Event`` (or its flag in the worker's
+process, for a job sent directly, or its in-process flag), which the runner's progress
+callback sees; a Dask job that outlives its time limit (or, sent directly, its dismissal) by
+:data:`GRACE` seconds without cooperating gets its worker restarted.
 """
 
 from __future__ import annotations
@@ -260,6 +264,12 @@ class Engine:
             fire_and_forget(handle.future)
         self._spawn(self._watch(handle))
 
+    def direct(self, process_id: str) -> bool:
+        """Jobs of ``process_id`` that leave the fast path are sent to a worker of the
+        embedded cluster directly (:mod:`service.jobs.direct`), so :meth:`run_first` can
+        run them."""
+        return self._slots is not None and self._direct_ok(process_id)
+
     def _direct_ok(self, process_id: str) -> bool:
         """Jobs of ``process_id`` may be sent to a worker directly: it is not ``long``."""
         process = lookup(process_id, test_processes=self.settings.test_processes)
@@ -370,9 +380,11 @@ class Engine:
                                     stop=handle.cancel, publish=publish)
 
     async def run_first(self, job: JobRecord, kwargs: dict[str, Any], wait: float,
-                        record: Callable[[Outcome | None, float], Awaitable[JobRecord]]
-                        ) -> tuple[JobRecord, Outcome | None]:
-        """Run a fast-path job *before* its row is written, for a client that waits for it.
+                        record: Callable[[Outcome | None, float], Awaitable[JobRecord]],
+                        *, direct: bool = False) -> tuple[JobRecord, Outcome | None]:
+        """Run a fast-path job *before* its row is written, for a client that waits for it
+        (with ``direct``: a job sent to a worker of the embedded cluster directly, see
+        :meth:`direct`; inputs inline, not in a file).
 
         ``job`` is the record to be (its id fixed, not yet stored). If the job ends within
         ``wait`` seconds, ``record(outcome, started)`` stores it finished, row, inputs and
@@ -384,18 +396,25 @@ class Engine:
         there for what is left of ``wait``. Returns the stored record and the outcome
         (``None`` while still running)."""
         loop = asyncio.get_running_loop()
-        handle = _Handle(job, loop.create_future(), started=time.monotonic())
-        started = time.time()
+        handle = _Handle(job, loop.create_future(),
+                         started=None if direct else time.monotonic())
+        handle.direct = direct
+        handle.stored = False
         if job.time_limit is not None:
             wait = min(wait, job.time_limit + GRACE)
         until = loop.time() + wait
         self._unrecorded += 1
         try:
-            compute = self._spawn(self._compute(handle, kwargs))
+            if direct:
+                for run in self.on_run:
+                    run(job, "workers")
+                compute = self._spawn(self._direct(handle, pickle.dumps(kwargs, protocol=5)))
+            else:
+                compute = self._spawn(self._compute(handle, kwargs))
             await asyncio.wait({compute}, timeout=wait)
             if compute.done() and compute.result() is not None:
                 outcome = compute.result()
-                stored = await record(outcome, started)
+                stored = await record(outcome, self._wall(handle.started))
                 handle.job = stored
                 for callback in self.on_finish:
                     callback(stored, outcome)
@@ -404,18 +423,21 @@ class Engine:
             self._unrecorded -= 1
         # Here before its row is readable: a request that finds the row (an idempotent
         # retry) finds the job too, and waits for it.
-        handle.stored = False
         self._jobs[job.id] = handle
         try:
-            stored = await record(None, started)
+            stored = await record(None, self._wall(handle.started))
         except BaseException:
             del self._jobs[job.id]
             handle.cancel.set()  # nobody will hear of this job: stop it
+            if direct and self._slots is not None:
+                self._spawn(self._slots.cancel(job.id))
             raise
         handle.job = stored
         handle.stored = True
         self._spawn(self._adopt(handle, compute, kwargs))
-        if not compute.done():
+        if direct and handle.started is not None:
+            self._announce_start(handle)  # it started while its row was being written
+        if not compute.done() or direct:
             return stored, None
         # given back by the fast path: on Dask now, waited for there
         outcome = await self.wait(stored.id, max(0.0, until - loop.time()))
@@ -424,7 +446,18 @@ class Engine:
     async def _adopt(self, handle: _Handle, compute: asyncio.Task[Outcome | None],
                      kwargs: dict[str, Any]) -> None:
         """Record the end of a job :meth:`run_first` stored while it was running."""
-        await self._finish_fast(handle, kwargs, await compute)
+        outcome = await compute
+        if handle.direct:
+            if outcome is not None:  # else whoever stopped it records how it ended
+                await self._record(handle, outcome)
+            return
+        await self._finish_fast(handle, kwargs, outcome)
+
+    @staticmethod
+    def _wall(started: float | None) -> float:
+        """The wall-clock time of the monotonic ``started`` (now if None)."""
+        now = time.time()
+        return now if started is None else now - (time.monotonic() - started)
 
     async def _run_direct(self, handle: _Handle, payload: dict[str, Any] | str) -> None:
         """Run the job of ``handle`` on a worker of the embedded cluster, sent directly, and
@@ -450,7 +483,7 @@ class Engine:
                     test_processes=self.settings.test_processes, stop=handle.cancel,
                     on_start=lambda worker: self._direct_started(handle))
             except WorkerLost as exc:
-                if not exc.sent:
+                if not exc.started:
                     continue
                 failures += 1
                 log.warning("job %s: its worker %s died (%d of %d allowed)", job.id,
@@ -474,15 +507,18 @@ class Engine:
         :data:`MARK_RUNNING_AFTER` seconds, or reports progress, or a subscriber wants to
         hear of it."""
         handle.started = time.monotonic()
-        if handle.stored:
-            if self.on_start_wanted(handle.job):
-                handle.marked_running = True
-                self.store.write(self.store.mark_running, handle.job.id)
-            else:
-                asyncio.get_running_loop().call_later(MARK_RUNNING_AFTER, self._mark_running,
-                                                      handle)
-            for callback in self.on_start:
-                callback(handle.job)
+        if handle.stored:  # else (run_first) when its row is written
+            self._announce_start(handle)
+
+    def _announce_start(self, handle: _Handle) -> None:
+        if self.on_start_wanted(handle.job):
+            handle.marked_running = True
+            self.store.write(self.store.mark_running, handle.job.id)
+        else:
+            asyncio.get_running_loop().call_later(MARK_RUNNING_AFTER, self._mark_running,
+                                                  handle)
+        for callback in self.on_start:
+            callback(handle.job)
 
     def _mark_running(self, handle: _Handle) -> None:
         if (self._jobs.get(handle.job.id) is handle and handle.stored
@@ -583,11 +619,12 @@ class Engine:
             await asyncio.sleep(0.5)
             now = time.monotonic()
             if self._slots is not None:
-                if self._slots.stale:
-                    try:
-                        await self._slots.refresh()
-                    except Exception:  # the scheduler is gone
-                        log.warning("could not list the workers", exc_info=True)
+                # every tick (one small scheduler call): workers die under jobs through the
+                # scheduler too, unseen here, and the nannies' replacements come
+                try:
+                    await self._slots.refresh()
+                except Exception:  # the scheduler is gone
+                    log.warning("could not list the workers", exc_info=True)
                 for job_id, when in list(self._stopping.items()):
                     worker = self._slots.worker_of(job_id)
                     if worker is None:

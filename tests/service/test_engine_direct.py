@@ -52,6 +52,17 @@ async def _submit(engine: Engine, store: JobStore, process: str, inputs: dict[st
     return job
 
 
+async def _ended(engine: Engine, store: JobStore, job_id: str, timeout: float) -> JobStatus:
+    """The status the job ends with (within ``timeout`` seconds, else its status then): the
+    engine's outcome, or the store's row if it ended before the engine was asked."""
+    outcome = await engine.wait(job_id, timeout)
+    if outcome is not None:
+        return outcome.status
+    row = store.get(job_id)
+    assert row is not None
+    return row.status
+
+
 async def _running_pid(store: JobStore, job_id: str, other_than: int | None = None) -> int:
     """The pid a running nap job reports in its progress messages (polled: a bound on a
     wait, not a timing assertion)."""
@@ -105,8 +116,8 @@ def test_dismissal_and_time_limit_stop_the_job_on_its_worker() -> None:
         queued = await _submit(engine, store, "diagnostics.nap", {"seconds": 0.0, "steps": 1})
         await _running_pid(store, long.id)
         await engine.dismiss(long.id)
-        outcome = await engine.wait(queued.id, 30)  # well before the minute is up
-        assert outcome is not None and outcome.status is JobStatus.SUCCESSFUL
+        # well before the minute is up
+        assert await _ended(engine, store, queued.id, 30) is JobStatus.SUCCESSFUL
 
         limited = await _submit(engine, store, "diagnostics.nap",
                                 {"seconds": 30.0, "steps": 3000}, time_limit=0.5)
@@ -138,7 +149,70 @@ def test_a_lost_worker_runs_the_job_again_then_fails_it() -> None:
         assert outcome.problem is not None and outcome.problem["type"] == "/problems/worker-lost"
         # the nannies bring the workers back, and jobs run on them
         job = await _submit(engine, store, "diagnostics.nap", {"seconds": 0.0, "steps": 1})
-        outcome = await engine.wait(job.id, 120)
-        assert outcome is not None and outcome.status is JobStatus.SUCCESSFUL
+        assert await _ended(engine, store, job.id, 120) is JobStatus.SUCCESSFUL
 
     _run(scenario, workers=2, allowed_failures=1)
+
+
+def test_a_job_sent_behind_a_long_one_is_taken_back_by_a_free_worker() -> None:
+    """Two workers, two jobs in flight each at most: a minute's nap on the first worker, a
+    short nap on the second, then a quick job, sent behind the minute's nap. When the second
+    worker runs out of work, the quick job is taken back and runs there, long before the
+    minute is up; the minute's nap runs on, then is dismissed."""
+
+    async def scenario(engine: Engine, store: JobStore) -> None:
+        long = await _submit(engine, store, "diagnostics.nap", {"seconds": 60.0, "steps": 6000})
+        short = await _submit(engine, store, "diagnostics.nap", {"seconds": 0.5, "steps": 5})
+        quick = await _submit(engine, store, "diagnostics.nap", {"seconds": 0.0, "steps": 1})
+        await asyncio.sleep(0)  # each job to its worker
+        assert engine._slots is not None
+        assert engine._slots.worker_of(quick.id) == engine._slots.worker_of(long.id)
+        assert engine._slots.worker_of(short.id) != engine._slots.worker_of(long.id)
+        for job in (short, quick):
+            assert await _ended(engine, store, job.id, 30) is JobStatus.SUCCESSFUL
+        row = store.get(long.id)
+        assert row is not None and row.status is JobStatus.RUNNING
+        await engine.dismiss(long.id)
+
+    _run(scenario, workers=2)
+
+
+def test_run_first_sends_the_job_before_its_row_is_written() -> None:
+    """``run_first(direct=True)``: a job that ends within the wait is written once, finished
+    (one commit); one that outlasts it is written accepted and recorded when it ends."""
+
+    async def scenario(engine: Engine, store: JobStore) -> None:
+        assert engine.direct("diagnostics.nap") and not engine.direct("diagnostics.sleep")
+        written: list[Any] = []
+
+        def recorder(job: JobRecord, inputs: dict[str, Any]) -> Any:
+            async def record(outcome: Any, started: float) -> JobRecord:
+                written.append(outcome)
+                create = {"process": job.process, "request": job.request,
+                          "time_limit": job.time_limit, "job_id": job.id,
+                          "created": job.created, "inputs": inputs}
+                if outcome is None:
+                    return await store.write(store.create, **create)
+                return await store.write(store.create_finished, outcome, started=started,
+                                         **create)
+            return record
+
+        inputs = {"seconds": 0.0, "steps": 1}
+        job = JobRecord.accepted(process="diagnostics.nap", request=JobRequest(),
+                                 time_limit=60.0)
+        stored, outcome = await engine.run_first(job, inputs, 30.0, recorder(job, inputs),
+                                                 direct=True)
+        assert outcome is not None and outcome.status is JobStatus.SUCCESSFUL
+        assert stored.status is JobStatus.SUCCESSFUL and len(written) == 1
+        assert store.get(job.id).status is JobStatus.SUCCESSFUL  # type: ignore[union-attr]
+
+        inputs = {"seconds": 1.0, "steps": 10}
+        job = JobRecord.accepted(process="diagnostics.nap", request=JobRequest(),
+                                 time_limit=60.0)
+        stored, outcome = await engine.run_first(job, inputs, 0.1, recorder(job, inputs),
+                                                 direct=True)
+        assert outcome is None and stored.active and written[-1] is None
+        assert await _ended(engine, store, job.id, 60) is JobStatus.SUCCESSFUL
+        assert store.get(job.id).status is JobStatus.SUCCESSFUL  # type: ignore[union-attr]
+
+    _run(scenario, workers=1)
