@@ -27,10 +27,10 @@ default's speed, and the rows without it what CHOLMOD adds.
 
 ``--quick`` (or ``BENCH_QUICK=1``) runs every bench at its small sizes (a few minutes); the
 full run takes up to about 40 minutes on two cores. ``--large`` runs the benches of
-:data:`LARGE` at their large sizes instead (the meshes at 200,704 vertices, the swiss roll
-at 20,000 points, t-SNE at 30,000) and skips the others; its rows go in the same table. Not
-run here: ``load``, ``transport``, ``sdk_map`` (service load tests, minutes each) and
-``workbench`` (needs a browser). A benchmark never asserts.
+:data:`LARGE` at their large sizes instead (ICP at 1,000,000 points a side, the meshes at
+200,704 vertices, the swiss roll at 20,000 points, t-SNE at 30,000) and skips the others;
+its rows go in the same table. Not run here: ``load``, ``transport``, ``sdk_map`` (service
+load tests, minutes each) and ``workbench`` (needs a browser). A benchmark never asserts.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ MODES = {"1": {"BENCH_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREA
          "default": {"BENCH_THREADS": "default"}}
 POLICY_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 #: The benches with large sizes (``--large``: the script's own flag).
-LARGE = ("solvers", "deformation", "parameterization", "embedding")
+LARGE = ("registration", "solvers", "deformation", "parameterization", "embedding")
 #: Benches with no peer and their own tables (ours against ours: the solver backends, the
 #: service's overhead), run once at default threads; their output is kept as printed.
 #: Arguments: (full run, quick run).
