@@ -54,6 +54,8 @@ _PAIR_CHUNK = 32_768
 _KNN_CELLS = 4_000_000
 #: Extra candidates per point of the single-precision neighbour search.
 _KNN_MARGIN = 10
+#: Rows of the perplexity calibration at once (its temporaries: a few such blocks).
+_CALIBRATE_ROWS = 4096
 #: Most input dimensions for which the neighbour search uses a kd-tree.
 _KDTREE_MAX_DIM = 8
 
@@ -90,9 +92,18 @@ def _calibrate(d2: FloatArray, perplexity: float) -> tuple[FloatArray, FloatArra
     neighbours, :math:`\beta_i` found by bisection so that the row's entropy is
     :math:`\log(\text{perplexity})` (nats); all rows at once.
 
-    Returns ``(p, beta)``: ``(n, k)`` rows summing to 1, and ``(n,)``.
+    Returns ``(p, beta)``: ``(n, k)`` rows summing to 1, and ``(n,)``. In blocks of
+    ``_CALIBRATE_ROWS`` rows (the temporaries' memory; every row on its own, so the same
+    bits).
     """
     n = d2.shape[0]
+    if n > _CALIBRATE_ROWS:
+        p = np.empty(d2.shape)
+        beta = np.empty(n)
+        for s in range(0, n, _CALIBRATE_ROWS):
+            p[s:s + _CALIBRATE_ROWS], beta[s:s + _CALIBRATE_ROWS] = _calibrate(
+                d2[s:s + _CALIBRATE_ROWS], perplexity)
+        return p, beta
     target = np.log(perplexity)
     d = d2 - d2.min(axis=1, keepdims=True)          # shift: the nearest has weight 1
     scale = d2.mean(axis=1)                         # a start on the data's own scale
@@ -240,7 +251,8 @@ def _exact_sorted(xc: FloatArray, rows: IntArray, part: IntArray
                   ) -> tuple[FloatArray, IntArray]:
     """Squared distances from the points ``rows`` to their candidates ``part`` (one row
     each) from the differences, each row sorted by distance, ties by index."""
-    diff = xc[part] - xc[rows, None, :]
+    diff = xc[part]
+    diff -= xc[rows, None, :]                       # in place: one (b, k, D) array, not two
     return _sorted_rows(np.einsum("bkd,bkd->bk", diff, diff), part)
 
 
@@ -258,9 +270,12 @@ def _sparse_affinities(x: FloatArray, perplexity: float
     k = max(1, min(n - 1, int(3 * perplexity)))
     d2, nbr = _nearest_neighbors(x, k)
     cond, _ = _calibrate(d2, perplexity)
-    rows = np.repeat(np.arange(n), k)
-    pc = sp.csr_matrix((cond.ravel(), (rows, nbr.ravel())), shape=(n, n))
-    p = ((pc + pc.T) / (2.0 * n)).tocsr()
+    # straight to CSR (k distinct neighbours a row): no COO triplets and their conversion
+    pc = sp.csr_matrix((cond.ravel(), nbr.ravel(), np.arange(0, n * k + 1, k)), shape=(n, n))
+    del cond
+    p = (pc + pc.T).tocsr()
+    del pc
+    p.data *= 1.0 / (2.0 * n)                       # in place (as scipy's `/ (2n)` does it)
     p.sum_duplicates()
     p.sort_indices()
     return p, d2, nbr
@@ -373,16 +388,24 @@ class _SparseAttraction:
 
     def __init__(self, p: sp.csr_matrix) -> None:
         n = p.shape[0]
-        up = sp.triu(p, k=1, format="csr")
-        counts = np.diff(up.indptr)
-        rows = np.repeat(np.arange(n, dtype=np.intp), counts)
-        layer = np.arange(rows.size) - np.repeat(up.indptr[:-1], counts)
-        order = np.lexsort((rows, layer))
-        self.a = rows[order]
-        self.b = up.indices[order].astype(np.intp)
-        self.pij = up.data[order]
+        # the upper triangle (as sp.triu, without its COO copy of the whole of P), each
+        # intermediate dropped as soon as it is used: the peak memory of t-SNE is here
+        rows = np.repeat(np.arange(n, dtype=np.int32), np.diff(p.indptr))
+        keep = p.indices > rows
+        counts = np.bincount(rows[keep], minlength=n)
+        del rows
+        cols, vals = p.indices[keep], p.data[keep]
+        del keep
+        starts = np.r_[0, np.cumsum(counts)[:-1]]
+        layer = np.arange(cols.size) - np.repeat(starts, counts)
+        order = np.argsort(layer, kind="stable")    # by layer, then row (CSR order)
+        del layer
+        self.plogp = 2.0 * float((vals * np.log(vals)).sum())
+        self.b = cols[order].astype(np.intp)
+        self.pij = vals[order]
+        del cols, vals
         self.pij32 = self.pij.astype(np.float32)
-        self.plogp = 2.0 * _plogp(up)
+        self.a = np.repeat(np.arange(n, dtype=np.intp), counts)[order]
 
     def __call__(self, y: FloatArray, want_kl: bool) -> tuple[FloatArray, float]:
         n, d = y.shape
