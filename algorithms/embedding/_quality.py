@@ -243,7 +243,7 @@ def _outsider_ranks_from_lists(x: FloatArray, emb: IntpArray, input_d2: FloatArr
     # the same distance (ties share the rank of the first)
     new = np.ones(input_d2.shape, dtype=bool)
     new[:, 1:] = input_d2[:, 1:] != input_d2[:, :-1]
-    first = np.maximum.accumulate(np.where(new, np.arange(width), 0), axis=1)
+    first = np.maximum.accumulate(np.where(new, np.arange(width, dtype=np.int32), 0), axis=1)
     ranks = np.zeros((n, k), dtype=np.int64)                           # 0: beyond the list
     step = max(1, _LIST_CELLS // (k * width))
     for s in range(0, n, step):

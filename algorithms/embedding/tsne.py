@@ -821,6 +821,12 @@ def tsne(
                            min_grad_norm=min_grad_norm, report=report, what="t-SNE",
                            style="sklearn" if method == "exact" else "opentsne")
         kl, _ = gradient(y, 1.0, True)
+    # P (or the attraction's pairs) freed before the trustworthiness: the peak memory
+    del gradient
+    if method == "exact":
+        del p
+    else:
+        del attraction
     y = y if given else fix_signs(y)
     lists = None if method == "exact" else (input_d2, input_nbr)
     return TSNEResult(
