@@ -269,6 +269,8 @@ def _sparse_affinities(x: FloatArray, perplexity: float
     n = x.shape[0]
     k = max(1, min(n - 1, int(3 * perplexity)))
     d2, nbr = _nearest_neighbors(x, k)
+    if n < 2**31:
+        nbr = nbr.astype(np.int32)                  # kept for the trustworthiness: half
     cond, _ = _calibrate(d2, perplexity)
     # straight to CSR (k distinct neighbours a row): no COO triplets and their conversion
     pc = sp.csr_matrix((cond.ravel(), nbr.ravel(), np.arange(0, n * k + 1, k)), shape=(n, n))
@@ -392,20 +394,23 @@ class _SparseAttraction:
         # intermediate dropped as soon as it is used: the peak memory of t-SNE is here
         rows = np.repeat(np.arange(n, dtype=np.int32), np.diff(p.indptr))
         keep = p.indices > rows
-        counts = np.bincount(rows[keep], minlength=n)
-        del rows
+        rows = rows[keep]
+        counts = np.bincount(rows, minlength=n)
         cols, vals = p.indices[keep], p.data[keep]
         del keep
-        starts = np.r_[0, np.cumsum(counts)[:-1]]
-        layer = np.arange(cols.size) - np.repeat(starts, counts)
+        starts = np.r_[0, np.cumsum(counts)[:-1]].astype(np.int32)
+        layer = np.arange(cols.size, dtype=np.int32)
+        layer -= np.repeat(starts, counts)
         order = np.argsort(layer, kind="stable")    # by layer, then row (CSR order)
         del layer
         self.plogp = 2.0 * float((vals * np.log(vals)).sum())
+        self.a = rows[order].astype(np.intp)
+        del rows
         self.b = cols[order].astype(np.intp)
+        del cols
         self.pij = vals[order]
-        del cols, vals
+        del vals, order
         self.pij32 = self.pij.astype(np.float32)
-        self.a = np.repeat(np.arange(n, dtype=np.intp), counts)[order]
 
     def __call__(self, y: FloatArray, want_kl: bool) -> tuple[FloatArray, float]:
         n, d = y.shape
