@@ -464,9 +464,11 @@ async def _execute(st: State, process: Process, request: Request, header: str,
     args: dict[str, Any] = {"process": process.id, "request": spec.request,
                             "time_limit": spec.time_limit, "idempotency_key": key,
                             "request_hash": digest, "owner": who}
+    direct = (not fast and spool is None and spec.input_bytes <= st.settings.inline_input_bytes
+              and st.engine.direct(process.id))
     try:
-        if fast and wait > 0 and spec.request.subscriber is None:
-            job, outcome = await _run_first(st, args, inputs, wait)
+        if (fast or direct) and wait > 0 and spec.request.subscriber is None:
+            job, outcome = await _run_first(st, args, inputs, wait, direct=direct)
             if job.active:
                 applied = "respond-async" if applied else None
             return job_response(st, job, outcome, applied, wanted=wanted)
@@ -492,10 +494,11 @@ async def _execute(st: State, process: Process, request: Request, header: str,
     return await _answer(st, job.id, prefer, process, spec.mode, wanted)
 
 
-async def _run_first(st: State, args: dict[str, Any], inputs: dict[str, Any], wait: float
-                     ) -> tuple[JobRecord, Outcome | None]:
-    """A fast-path job the client waits for: run, then recorded with its outcome in one
-    commit (or recorded accepted if it outlasts the wait; see ``Engine.run_first``).
+async def _run_first(st: State, args: dict[str, Any], inputs: dict[str, Any], wait: float,
+                     *, direct: bool = False) -> tuple[JobRecord, Outcome | None]:
+    """A fast-path job the client waits for (with ``direct``: one sent to a Dask worker
+    directly, ``Engine.direct``): run, then recorded with its outcome in one commit (or
+    recorded accepted if it outlasts the wait; see ``Engine.run_first``).
     ``args`` are :meth:`JobStore.create`'s but the inputs, its id and its times."""
     job = JobRecord.accepted(**args, created=time.time())
 
@@ -507,7 +510,7 @@ async def _run_first(st: State, args: dict[str, Any], inputs: dict[str, Any], wa
                                     **create)
 
     return await st.engine.run_first(job, inputs, wait if math.isfinite(wait) else 1e9,
-                                     record)
+                                     record, direct=direct)
 
 
 def _wait_for(prefer: dict[str, str | None], process: Process, mode: str | None,
