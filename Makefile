@@ -54,8 +54,14 @@ sdk: $(VENV)/.installed
 # Every bench against its peer, under both thread policies (one thread, and each library's
 # defaults), ours and the peer interleaved: one table printed and build/bench/results.txt
 # and results.json (build/ is not committed). BENCH_ARGS=--quick for the small sizes.
+# The peers Open3D and openTSNE are the bench extra (a bench without them leaves their rows
+# out); Open3D's wheel needs the system's libusb-1.0 (Debian: apt-get install libusb-1.0-0).
 BENCH_ARGS ?=
-bench: $(VENV)/.installed-test
+$(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-test
+	$(BIN)/python -m pip install -q -e '.[test,bench]'
+	@touch $@
+
+bench: $(VENV)/.installed-bench
 	$(BIN)/python bench/run.py $(BENCH_ARGS)
 
 # The licence of every distribution the default install brings (tests/test_licences.py
