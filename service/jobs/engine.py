@@ -74,6 +74,13 @@ MARK_RUNNING_AFTER = 0.05
 has its start recorded with its end: one commit instead of two)."""
 
 
+def _worker_lost(times: int, worker: Any) -> Outcome:
+    """The outcome of a job whose worker died ``times`` times, last ``worker``."""
+    return Outcome.failed(problem_body(
+        "worker-lost", f"The job's worker died {times} times (crash or memory limit); last on "
+        f"{worker}."))
+
+
 class WarmUp(WorkerPlugin):
     """Imports the runner (and so the catalog and every algorithm) when a worker starts, has
     the worker report to the scheduler promptly
@@ -489,9 +496,7 @@ class Engine:
                 log.warning("job %s: its worker %s died (%d of %d allowed)", job.id,
                             exc.worker, failures, self.settings.allowed_failures)
                 if failures > self.settings.allowed_failures:
-                    return Outcome.failed(problem_body(
-                        "worker-lost", f"The job's worker died {failures} times (crash or "
-                        f"memory limit); last on {exc.worker}."))
+                    return _worker_lost(failures, exc.worker)
             except asyncio.CancelledError:
                 raise
             except Exception as exc:
@@ -533,9 +538,8 @@ class Engine:
         except FutureCancelledError:
             outcome = Outcome.dismissed()
         except KilledWorker as exc:
-            outcome = Outcome.failed(problem_body(
-                "worker-lost", f"The job's worker died {self.settings.allowed_failures + 1} "
-                f"times (crash or memory limit); last on {getattr(exc, 'last_worker', '?')}."))
+            outcome = _worker_lost(self.settings.allowed_failures + 1,
+                                   getattr(exc, "last_worker", "?"))
         except asyncio.CancelledError:
             raise
         except Exception as exc:
