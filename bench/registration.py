@@ -207,28 +207,24 @@ def case_icp(n: int, iterations: int = ITERATIONS, large: bool = False) -> None:
         compare("registration", f"{label}, default stop 1e-6 (≤ 30 it.)", data, ours(1e-6),
                 o3d_icp(1e-6), pose_error, peer_name="Open3D registration_icp",
                 ours_threads=kd, peer_threads="TBB (open3d.utility.set_max_threads)")
-        plane = reg.TransformationEstimationPointToPlane()
+        def o3d_fixed(register: Any, estimation: Any, clouds: str) -> Any:
+            """Open3D's ``register`` for ITERATIONS iterations on ``d[clouds]``."""
+            def run(d: dict[str, Any]) -> Any:
+                a, b = d[clouds]
+                crit = reg.ICPConvergenceCriteria(relative_fitness=0.0, relative_rmse=0.0,
+                                                  max_iteration=ITERATIONS)
+                return np.asarray(register(a, b, MAX_DIST, np.eye(4), estimation,
+                                           crit).transformation)
+            return run
 
-        def o3d_plane(d: dict[str, Any]) -> Any:
-            a, b = d["o3d"]
-            crit = reg.ICPConvergenceCriteria(relative_fitness=0.0, relative_rmse=0.0,
-                                              max_iteration=ITERATIONS)
-            return np.asarray(reg.registration_icp(a, b, MAX_DIST, np.eye(4), plane,
-                                                   crit).transformation)
-
+        o3d_plane = o3d_fixed(reg.registration_icp,
+                              reg.TransformationEstimationPointToPlane(), "o3d")
         compare("registration", f"ICP point_to_plane {n:,}↔{n:,}, 30 iterations (the same "
                 "target normals)", data, ours(0.0, "point_to_plane"), o3d_plane, pose_error,
                 peer_name="Open3D registration_icp", ours_threads=kd,
                 peer_threads="TBB (open3d.utility.set_max_threads)")
-        sym = reg.TransformationEstimationSymmetric()
-
-        def o3d_symmetric(d: dict[str, Any]) -> Any:
-            a, b = d["o3d_sym"]
-            crit = reg.ICPConvergenceCriteria(relative_fitness=0.0, relative_rmse=0.0,
-                                              max_iteration=ITERATIONS)
-            return np.asarray(reg.registration_symmetric_icp(a, b, MAX_DIST, np.eye(4), sym,
-                                                             crit).transformation)
-
+        o3d_symmetric = o3d_fixed(reg.registration_symmetric_icp,
+                                  reg.TransformationEstimationSymmetric(), "o3d_sym")
         compare("registration", f"ICP symmetric {n:,}↔{n:,}, 30 iterations (the same source "
                 "and target normals)", data, ours(0.0, "symmetric"), o3d_symmetric,
                 pose_error, peer_name="Open3D registration_symmetric_icp", ours_threads=kd,
