@@ -113,14 +113,11 @@ def _floor_task(inputs: dict) -> dict:  # noqa: ARG001 - the inputs travel, noth
 def bare_dask() -> Iterator[object]:
     """A cluster set up as the service's embedded one, and a function measuring ``n`` round
     trips (``client.submit`` -> result) on it: ``measure(inputs, n) -> times``."""
-    import logging
-
     import dask
-    from distributed import Client, LocalCluster
-    from distributed.security import Security
+    from distributed import Client
 
-    from service.jobs.engine import QUIET_MONITORING
-    from service.jobs.scheduler import embedded_scheduler, send_promptly
+    from service.jobs.engine import QUIET_MONITORING, embedded_cluster
+    from service.jobs.scheduler import send_promptly
 
     loop = asyncio.new_event_loop()
     thread = threading.Thread(target=loop.run_forever, daemon=True)
@@ -131,12 +128,7 @@ def bare_dask() -> Iterator[object]:
 
     async def start():  # noqa: ANN202
         dask.config.set(QUIET_MONITORING)
-        dask.config.set({"distributed.scheduler.http.routes": [],
-                         "distributed.worker.http.routes": []})
-        cluster = await embedded_scheduler(LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, asynchronous=True,
-            dashboard_address=None, scheduler_port=0, host="127.0.0.1", protocol="tls://",
-            security=Security.temporary(), silence_logs=logging.ERROR))
+        cluster = await embedded_cluster(2)   # the service's embedded cluster, as it makes it
         client = await Client(cluster, asynchronous=True)
         send_promptly(client.scheduler_comm)
         return cluster, client

@@ -61,7 +61,7 @@ from service.jobs.store import JobRecord, JobStore
 from service.problems import problem_body
 from service.settings import Settings
 
-__all__ = ["Engine", "GRACE"]
+__all__ = ["Engine", "GRACE", "embedded_cluster"]
 
 log = logging.getLogger("morphserve.engine")
 
@@ -79,6 +79,25 @@ def _worker_lost(times: int, worker: Any) -> Outcome:
     return Outcome.failed(problem_body(
         "worker-lost", f"The job's worker died {times} times (crash or memory limit); last on "
         f"{worker}."))
+
+
+async def embedded_cluster(workers: int, *, memory_limit: Any = "auto",
+                           dashboard: str | None = None) -> LocalCluster:
+    """The embedded cluster: ``workers`` process workers of one thread each (their nannies
+    here), the scheduler in a process of its own (:mod:`service.jobs.scheduler`), all on
+    loopback over mutual TLS with an in-memory certificate; HTTP routes (job keys, the
+    dashboard) only with a ``dashboard`` address. bench/service_overhead.py measures the
+    bare Dask round trip on the same."""
+    if dashboard is None:
+        dask.config.set({"distributed.scheduler.http.routes": [],
+                         "distributed.worker.http.routes": []})
+    with children_ignore_sigint():
+        cluster: LocalCluster = await embedded_scheduler(LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, asynchronous=True,
+            dashboard_address=dashboard, scheduler_port=0, host="127.0.0.1",
+            protocol="tls://", security=Security.temporary(), memory_limit=memory_limit,
+            silence_logs=logging.ERROR))
+    return cluster
 
 
 class WarmUp(WorkerPlugin):
@@ -174,19 +193,9 @@ class Engine:
             # The embedded scheduler runs whatever it is sent: only holders of this in-memory
             # certificate (the service and the workers it spawns) may talk to it or to the
             # workers, over mutual TLS. Its HTTP server (job keys, the dashboard) only if asked.
-            dashboard = self.settings.dashboard_address
-            if dashboard is None:
-                dask.config.set({"distributed.scheduler.http.routes": [],
-                                 "distributed.worker.http.routes": []})
-            with children_ignore_sigint():
-                # the scheduler in a process of its own (service/jobs/scheduler.py), the
-                # nannies here, each worker in its own process
-                self.cluster = await embedded_scheduler(LocalCluster(
-                    n_workers=self.settings.workers, threads_per_worker=1, processes=True,
-                    asynchronous=True, dashboard_address=dashboard, scheduler_port=0,
-                    host="127.0.0.1", protocol="tls://", security=Security.temporary(),
-                    memory_limit=self.settings.worker_memory_limit,
-                    silence_logs=logging.ERROR))
+            self.cluster = await embedded_cluster(
+                self.settings.workers, memory_limit=self.settings.worker_memory_limit,
+                dashboard=self.settings.dashboard_address)
             self.client = await Client(self.cluster, asynchronous=True)  # its security too
         send_promptly(getattr(self.client, "scheduler_comm", None))
         self.client.subscribe_topic(TOPIC, self._on_event)
