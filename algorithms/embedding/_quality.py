@@ -285,10 +285,7 @@ def _outsider_ranks_from_lists(x: FloatArray, emb: IntpArray, input_d2: FloatArr
             step = max(1, _LIST_CELLS // cols.size)
             for s in range(0, rows.size, step):
                 r = rows[s:s + step]
-                est = x32[r] @ xcols.T
-                est *= -2.0
-                est += sqcols[None, :]
-                est[np.arange(r.size), pos[s:s + step]] = np.inf   # not its own neighbour
+                est = _estimates(x32[r], xcols, sqcols, pos[s:s + step])
                 # the row's largest threshold, rounded up to the estimates' precision
                 top = np.nextafter(hi[s:s + step].max(axis=1).astype(est.dtype), np.inf)
                 flat = np.flatnonzero(est <= top[:, None])
@@ -352,3 +349,16 @@ def _screen(xc: FloatArray, single: bool = True
     kind = np.float32 if single and top < 1e18 else np.float64
     slack = 4.0 * (xc.shape[1] + 2) * float(np.finfo(kind).eps) * (norms * top + top * top)
     return sq, xc.astype(kind, copy=False), sq.astype(kind, copy=False), slack
+
+
+def _estimates(xr: np.ndarray, xcols: np.ndarray, sqcols: np.ndarray, own: IntpArray
+               ) -> np.ndarray:
+    """The screen's estimates (:func:`_screen`) of the squared distances from the rows
+    ``xr`` to the columns ``xcols`` less the rows' own squared norms (constant along a
+    row, so they rank alike): ``-2 x_i·x_j + |x_j|²``, in the screen's precision; each
+    row's own column ``own[i]`` set to ``+inf`` (a point is not its own neighbour)."""
+    est: np.ndarray = xr @ xcols.T
+    est *= -2.0
+    est += sqcols[None, :]
+    est[np.arange(xr.shape[0]), own] = np.inf
+    return est

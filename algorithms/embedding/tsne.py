@@ -23,7 +23,7 @@ from algorithms.core.types import FloatArray, IntArray, IntpArray
 from algorithms.core.validation import as_points
 from algorithms.embedding._fft_gradients import repulsion_fft
 from algorithms.embedding._groups import group_count, partition
-from algorithms.embedding._quality import _screen, fix_signs, trustworthiness
+from algorithms.embedding._quality import _estimates, _screen, fix_signs, trustworthiness
 
 __all__ = ["TSNEResult", "tsne", "check_tsne", "Method", "Start", "LearningRate", "METHODS",
            "INITS", "MAX_EXACT_POINTS", "AUTO_EXACT_BELOW", "check_perplexity", "resolve_method"]
@@ -198,10 +198,7 @@ def _kth_bound(screen: tuple[FloatArray, Any, Any, FloatArray], rows: IntpArray,
     tau = 0.0
     for s in range(0, rows.size, step):
         r = rows[s:s + step]
-        block = x32[r] @ xcols.T
-        block *= -2.0
-        block += sqcols[None, :]
-        block[np.arange(r.size), pos[s:s + step]] = np.inf
+        block = _estimates(x32[r], xcols, sqcols, pos[s:s + step])
         kth = np.partition(block, k - 1, axis=1)[:, k - 1].astype(np.float64)
         tau = max(tau, float((kth + sq[r] + slack[r]).max()))
     return tau
@@ -224,11 +221,7 @@ def _search_block(xc: FloatArray, screen: tuple[FloatArray, Any, Any, FloatArray
     for s in range(0, rows.size, step):
         r = rows[s:s + step]
         here = np.arange(r.size)
-        # ranking row i needs only -2 x_i.x_j + |x_j|^2 (|x_i|^2 is constant)
-        block = x32[r] @ xcols.T
-        block *= -2.0
-        block += sqcols[None, :]
-        block[here, pos[s:s + step]] = np.inf
+        block = _estimates(x32[r], xcols, sqcols, pos[s:s + step])
         if wide < m - 1:
             part = np.argpartition(block, wide, axis=1)
             beyond = block[here, part[:, wide]].astype(np.float64) + sq[r] - slack[r]
