@@ -101,8 +101,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="a fifth of the sizes")
     parser.add_argument("--large", action="store_true",
-                        help="swiss roll 20,000 points (Isomap skipped: over its limit), "
-                        "t-SNE 30,000")
+                        help="swiss roll 20,000 points, t-SNE 30,000")
     parser.add_argument("--big", type=int, default=0, metavar="N",
                         help="also embed N points by t-SNE once (time, peak memory)")
     parser.add_argument("--only", metavar="WORD",

@@ -2943,7 +2943,7 @@ class Embedding(_Family):
         ----------
         points : (n, D) float array
             The data, one row per point; at least 2 (and more than ``n_neighbors``) and at
-            most 10,000 points (the method keeps the ``n×n`` geodesic distances).
+            most 20,000 points (the method keeps the ``n×n`` geodesic distances: 3.2 GB).
         n_components : int, default 2
             The dimension ``k`` of the embedding, ``1 <= k <= n``. It may exceed the dimension
             ``D`` of the points (geodesic distances need not be Euclidean in ``D``), as in
@@ -8655,7 +8655,7 @@ class AsyncEmbedding(_AsyncFamily):
         ----------
         points : (n, D) float array
             The data, one row per point; at least 2 (and more than ``n_neighbors``) and at
-            most 10,000 points (the method keeps the ``n×n`` geodesic distances).
+            most 20,000 points (the method keeps the ``n×n`` geodesic distances: 3.2 GB).
         n_components : int, default 2
             The dimension ``k`` of the embedding, ``1 <= k <= n``. It may exceed the dimension
             ``D`` of the points (geodesic distances need not be Euclidean in ``D``), as in
