@@ -45,6 +45,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 import numpy as np  # noqa: E402
 from _common import apply_policy, compare, report  # noqa: E402
+from _embedding_tsne import with_trustworthiness  # noqa: E402
 from scipy.spatial import procrustes  # noqa: E402
 from sklearn.datasets import load_digits, make_swiss_roll  # noqa: E402
 from sklearn.decomposition import PCA  # noqa: E402
@@ -74,15 +75,6 @@ warnings.simplefilter("ignore", FutureWarning)
 FAMILY = "embedding"
 
 
-def _with_trustworthiness(peer: Any) -> Any:
-    """The peer's embedding and its trustworthiness (k = 5), as our result holds both."""
-    def run(x: np.ndarray) -> np.ndarray:
-        y = peer(x)
-        trustworthiness(x, y, n_neighbors=5)
-        return np.asarray(y)
-    return run
-
-
 def _case(name: str, data: Any, ours: Any, peer: Any, peer_name: str, *,
           disparity: bool = False) -> None:
     def quality(x: np.ndarray, y: np.ndarray) -> dict[str, float]:
@@ -92,7 +84,7 @@ def _case(name: str, data: Any, ours: Any, peer: Any, peer_name: str, *,
         # the same embedding up to an orthogonal map and a scale
         return {"Procrustes disparity": procrustes(a, b)[2]}
 
-    compare(FAMILY, name, data, ours, _with_trustworthiness(peer), quality,
+    compare(FAMILY, name, data, ours, with_trustworthiness(peer), quality,
             peer_name=peer_name, agreement=agree if disparity else None,
             peer_threads="+ trustworthiness (k = 5), as ours")
 
