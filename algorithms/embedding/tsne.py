@@ -739,7 +739,8 @@ def tsne(
     50-D: 5× faster); on data without clusters nothing is pruned. The FFT
     repulsion (:mod:`algorithms.embedding._fft_gradients`) interpolates with 4 Lagrange
     nodes per box of side at most 1, at least 50 boxes per dimension (openTSNE uses 3
-    nodes; with 3 the final KL here came out 3-4 % above openTSNE's, with 4 about 1 %),
+    nodes; 2,000 points in 20 clusters: final KL 0.845 with 3 nodes, 0.827 with 4, 0.807
+    with the exact repulsion),
     and convolves the kernel :math:`w^2 (y_i - y_j)` on the node grid by FFT (single
     precision); :math:`Z` comes from the same transform of the charges by Parseval's
     identity; the repulsion's median relative error is about 0.5 %. The attractive
