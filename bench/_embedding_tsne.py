@@ -2,9 +2,8 @@
 
 openTSNE's default ``negative_gradient_method="auto"`` is Barnes–Hut (θ = 0.5) below
 10,000 points and FFT interpolation from 10,000: its rows below 10,000 points (``--quick``)
-compare our FFT repulsion with its Barnes–Hut one, which is the more accurate of the two
-there (2,000 points, the same P and start: final KL 0.815 for openTSNE, 0.827 for ours with
-4 nodes, 0.807 for our descent with the exact repulsion).
+compare our FFT repulsion with its Barnes–Hut one, the more accurate of the two there (the
+final KLs measured are in ``algorithms.embedding._fft_gradients.N_INTERPOLATION``'s note).
 
 :func:`case_tsne` adds rows to ``bench/embedding.py``'s table through
 ``_common.compare`` (ours and the peer alternately, on the data of seeds 0..2, after a
