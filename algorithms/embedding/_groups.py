@@ -14,7 +14,7 @@ on clustered data nearly every other cluster, on data without clusters (or in so
 dimensions that all distances are alike) nothing, and the search costs what the full
 ``n × n`` one does.
 
-Used by t-SNE's nearest neighbours (:func:`~algorithms.embedding.tsne._nearest_neighbors`)
+Used by t-SNE's nearest neighbours (:func:`~algorithms.embedding._quality._nearest_neighbors`)
 and by the rank counts of :func:`~algorithms.embedding.trustworthiness`.
 """
 

@@ -14,7 +14,7 @@ from sklearn.manifold import trustworthiness
 from algorithms.embedding import _groups
 from algorithms.embedding import trustworthiness as package_trustworthiness
 from algorithms.embedding._groups import group_count, partition
-from algorithms.embedding.tsne import _nearest_neighbors
+from algorithms.embedding._quality import _nearest_neighbors
 
 
 def _full(x: np.ndarray) -> np.ndarray:

@@ -21,10 +21,10 @@ from algorithms.core.errors import Cancelled, InvalidInputError
 from algorithms.embedding import sne, tsne
 from algorithms.embedding import trustworthiness as package_trustworthiness
 from algorithms.embedding._fft_gradients import repulsion_fft
+from algorithms.embedding._quality import _nearest_neighbors
 from algorithms.embedding.tsne import (
     _calibrate,
     _exact_kl_gradient,
-    _nearest_neighbors,
     _row_entropy,
     _SparseAttraction,
     affinities,
