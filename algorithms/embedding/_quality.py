@@ -36,8 +36,6 @@ __all__ = ["trustworthiness", "fix_signs", "quality_neighbors"]
 
 #: Most rows of input distances computed at once (memory: ``_CHUNK × n`` floats).
 _CHUNK = 256
-#: Inputs of at most this many dimensions count the outsiders' ranks from kd-tree balls.
-_BALL_DIMENSIONS = 16
 #: Most ball members handled at once (memory: a few arrays of this many).
 _BALL_CHUNK = 1 << 22
 #: Cells of a block of the list-based count (8 bytes each).
@@ -110,15 +108,15 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5,
 
     Notes
     -----
-    Cost: two kd-tree queries (above 8 input dimensions, where a kd-tree visits nearly
-    every point, the input's ``k`` nearest come from the exact blocked search of
-    :func:`_nearest_neighbors` instead: 100,000 points in 50-D in 20 clusters, 28 s in
-    all, where the kd-tree path ran for many minutes), then :math:`O(n)` per embedded
-    neighbour that is not an input neighbour (its rank is counted), in blocks of rows;
-    scikit-learn sorts the full :math:`n \times n` distance matrix. Inputs of at most 16
-    dimensions count such a rank among the input points in a kd-tree ball of that
-    neighbour's radius instead (a few points for a good embedding), unless the balls hold
-    more than half the rows would.
+    Cost (scikit-learn sorts the full :math:`n \times n` distance matrix): up to 8 input
+    dimensions, two kd-tree queries, then each embedded neighbour that is not among the
+    input's ``k`` nearest has its rank counted among the input points in a kd-tree ball
+    of its radius (a few points for a good embedding), or, when the balls would hold more
+    than half the rows, :math:`O(n)` each from whole rows of distances in blocks. Above 8
+    dimensions, where a kd-tree visits nearly every point, the input's ``k`` nearest come
+    from the exact blocked search of :func:`_nearest_neighbors` and the ranks as with
+    given lists (100,000 points in 50-D in 20 clusters: 28 s in all, where the kd-tree
+    path ran for many minutes).
 
     References
     ----------
@@ -158,10 +156,9 @@ def trustworthiness(points: Any, embedding: Any, *, n_neighbors: int = 5,
     true = true.reshape(n, k + 1)
     member = (nbr[:, :, None] == true[:, None, :]).any(axis=2)
     rows = np.flatnonzero(~member.all(axis=1))
-    if x.shape[1] <= _BALL_DIMENSIONS:
-        total = _outsider_ranks_by_tree(x, tree, nbr, member, k, rows.size * n // 2)
-        if total is not None:
-            return _score(total, n, k)
+    total = _outsider_ranks_by_tree(x, tree, nbr, member, k, rows.size * n // 2)
+    if total is not None:
+        return _score(total, n, k)
     sq = np.einsum("ij,ij->i", x, x)
     total = 0.0
     chunk = max(1, min(_CHUNK, 20_000_000 // n))
