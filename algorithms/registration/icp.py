@@ -3,9 +3,12 @@ without known correspondences."""
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import itertools
 import math
+from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal, cast, get_args
 
@@ -19,7 +22,7 @@ from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.pairs import Pairs, rotation_fit, trusted_pairs
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
 from algorithms.core.progress import Progress, as_progress
-from algorithms.core.threads import SERIAL_BELOW, query_workers, single_blas_thread
+from algorithms.core.threads import SERIAL_BELOW, query_workers, single_blas_thread, usable_cores
 from algorithms.core.types import FloatArray, IntArray, IntpArray, KnnQuery
 from algorithms.core.validation import as_points, check_min_points, check_span, same_dim
 from algorithms.registration._normals import estimate_normals, given_normals
@@ -49,6 +52,10 @@ KEEP_RTOL = 1e-12
 #: run's first poses, far from the target, about a quarter cheaper (100k points a side),
 #: those near the end as cheap; the answers do not depend on it.
 TARGET_LEAF = 32
+#: Source points per thread below which a run is not split over threads (see
+#: _Problem.nearest): starting and joining a part costs about what querying a few hundred
+#: points does.
+PART_MIN = 2048
 #: An RMSE at or below this fraction of the target's RMS radius is an exact fit: stop.
 ROUNDING_RTOL = 1e-12
 #: How far a given ``init`` may be from its model (orthogonality, last row), relatively.
@@ -180,6 +187,11 @@ class _Problem:
         self.src, self.dst = src, dst
         self.n = n
         self.workers = query_workers(n)
+        # the source's parts, one thread each (see nearest): contiguous runs of at least
+        # PART_MIN points, as many as there are cores
+        count = max(1, min(usable_cores(), n // PART_MIN))
+        self.parts = [n * i // count for i in range(count + 1)]
+        self.pool: ThreadPoolExecutor | None = None
         self.all = np.arange(n)
         self.ones = np.ones(n)
         # the centred source of the fits in which every source point is paired (the usual
@@ -222,6 +234,20 @@ class _Problem:
                 self.src_normals = normals
             else:
                 self.src_normals = source_normals
+
+    @contextlib.contextmanager
+    def threads(self) -> Iterator[None]:
+        """The threads of the parts beyond the first (the calling thread's) for the
+        duration of the block."""
+        if len(self.parts) <= 2:
+            yield
+            return
+        with ThreadPoolExecutor(len(self.parts) - 2,
+                                thread_name_prefix="icp-part") as self.pool:
+            try:
+                yield
+            finally:
+                self.pool = None
 
     def match(self, transform: FloatArray) -> _Match:
         d = self.src.shape[1]
@@ -266,35 +292,61 @@ class _Problem:
         ``‖ΔA‖_F max‖x - x̄‖ + ‖Δt‖``, was too loose to pay for it), and the plane metrics'
         fast convergence skips most of their queries. (A second test, the partner nearer
         than half its gap to its own nearest target point, kept 3% more points and cost
-        more than it saved: its query of the target made runs 2-10% slower.)"""
+        more than it saved: its query of the target made runs 2-10% slower.)
+
+        The source is cut into :attr:`parts` (contiguous runs of its spatial order), each
+        handled whole (the test, the query of its points that fail it) by one thread: each
+        point's answer is computed as the serial loop computes it, so the result is the
+        same bits for any number of parts."""
+        dist, idx = np.empty(self.n), np.empty(self.n, dtype=np.intp)
         d = self.src.shape[1]
+        tol = KEEP_RTOL * (self.extent + float(np.linalg.norm(transform[:d, d])))
+        jobs = [functools.partial(self._nearest_part, lo, hi, moved, tol, dist, idx)
+                for lo, hi in itertools.pairwise(self.parts)]
+        if self.pool is None or len(jobs) == 1:
+            for job in jobs:
+                job()
+        else:  # the calling thread takes the first part; the pool's threads the others
+            futures = [self.pool.submit(job) for job in jobs[1:]]
+            jobs[0]()
+            for future in futures:
+                future.result()
+        self.partner = idx
+        return dist, idx
+
+    def _nearest_part(self, lo: int, hi: int, moved: FloatArray, tol: float,
+                      dist: FloatArray, idx: IntArray) -> None:
+        """:meth:`nearest` for source points ``lo:hi``: fills ``dist[lo:hi]``,
+        ``idx[lo:hi]`` and the part's rows of what the query proved."""
         # The tree's cut-off compares rounded squares: search a hair wider, cut exactly.
         bound = math.inf if self.max_dist is None else self.max_dist * (1 + 1e-9)
+        moved, dist, idx = moved[lo:hi], dist[lo:hi], idx[lo:hi]
+        anchor, slack_of = self.anchor[lo:hi], self.slack[lo:hi]
         rest: IntArray | None = None
-        if self.partner is None:
-            dist, idx = np.empty(self.n), np.empty(self.n, dtype=np.intp)
-        else:
-            tol = KEEP_RTOL * (self.extent + float(np.linalg.norm(transform[:d, d])))
+        if self.partner is not None:
+            partner = self.partner[lo:hi]
             # how far each point moved since its last query, as computed: the triangle
             # inequality per point, not a bound over all of them
-            diff = np.subtract(moved, self.anchor, out=self.scratch)
+            diff = np.subtract(moved, anchor, out=self.scratch[lo:hi])
             np.multiply(diff, diff, out=diff)
-            disp = np.sqrt(_row_sums(diff, self.disp), out=self.disp)
+            disp = np.sqrt(_row_sums(diff, self.disp[lo:hi]), out=self.disp[lo:hi])
             disp *= 1 + KEEP_RTOL
             disp += tol
-            diff = np.take(self.dst, self.partner, axis=0, mode="clip")  # m: never kept
+            diff = np.take(self.dst, partner, axis=0, mode="clip")  # m: never kept
             np.subtract(moved, diff, out=diff)
             np.multiply(diff, diff, out=diff)
-            dist = _row_sums(diff, np.empty(self.n))  # as cKDTree sums: the same bits
+            _row_sums(diff, dist)  # as cKDTree sums: the same bits
             np.sqrt(dist, out=dist)
             disp += dist
-            rest = np.flatnonzero(disp >= self.slack)
-            idx = self.partner.copy()
-        every = rest is None or rest.size == self.n
+            rest = np.flatnonzero(disp >= slack_of)
+            idx[:] = partner
+        every = rest is None or rest.size == hi - lo
         pts = moved if every else np.take(moved, cast(IntArray, rest), axis=0)
         if pts.shape[0] == 0:
-            return dist, idx
-        workers = query_workers(pts.shape[0])
+            return
+        # one thread per part already: the query's own workers only when the run is not
+        # split (one part: every core from SERIAL_BELOW points)
+        workers = query_workers(pts.shape[0]) if len(self.parts) == 2 else 1
         two, which = cast(tuple[FloatArray, IntArray], self.tree.query(
             pts, k=2, distance_upper_bound=bound, workers=workers))
         near, nearest = two[:, 0].copy(), which[:, 0].copy()
@@ -308,14 +360,10 @@ class _Problem:
         slack *= 1 - KEEP_RTOL
         slack[near == math.inf] = -math.inf  # no partner: queried every time
         if every:
-            self.partner = nearest
-            self.slack[:] = slack
-            self.anchor[:] = moved
-            return near, nearest
-        dist[rest], idx[rest], self.slack[rest] = near, nearest, slack
-        self.anchor[rest] = pts
-        self.partner = idx
-        return dist, idx
+            dist[:], idx[:], slack_of[:], anchor[:] = near, nearest, slack, moved
+            return
+        dist[rest], idx[rest], slack_of[rest] = near, nearest, slack
+        anchor[rest] = pts
 
     def weights(self, residual: FloatArray) -> FloatArray | None:
         """IRLS weights ``ψ(r)/r`` of the robust kernel for absolute residuals ``residual``."""
@@ -727,11 +775,12 @@ def icp(
                         normal_neighbors=normal_neighbors)
         total = len(starts) * max_iterations
         best: _Run | None = None
-        for k, start in enumerate(starts):
-            run = _iterate(prob, start, max_iterations, tolerance, report,
-                           k * max_iterations, total)
-            if best is None or _better(run, best, prob.n):
-                best = run
+        with prob.threads():
+            for k, start in enumerate(starts):
+                run = _iterate(prob, start, max_iterations, tolerance, report,
+                               k * max_iterations, total)
+                if best is None or _better(run, best, prob.n):
+                    best = run
     assert best is not None
     if not best.converged:
         warn(f"ICP did not converge: {best.reason}.", ConvergenceWarning)

@@ -1,6 +1,7 @@
 """ICP's nearest-point search keeps the previous partners it can prove unchanged: every
 answer must equal a plain query of the target's kd-tree (distances bit for bit, indices
-the tree's own, ties included), and the skipping must really happen."""
+the tree's own, ties included), and the skipping must really happen. Split over threads
+(the source in parts), the answers and the whole result are the same bits."""
 
 from __future__ import annotations
 
@@ -78,9 +79,17 @@ def _queried_fewer(monkeypatch, src, dst, **kw):
 ROT = Rotation.from_rotvec([0.05, 0.1, -0.08]).as_matrix()
 
 
+def _split(monkeypatch, parts: int) -> None:
+    """Make runs of a few hundred points split into ``parts`` threads (1: no split)."""
+    monkeypatch.setattr(icp_mod, "PART_MIN", 200)
+    monkeypatch.setattr(icp_mod, "usable_cores", lambda: parts)
+
+
+@pytest.mark.parametrize("parts", [1, 3])
 @pytest.mark.parametrize("metric", ["point_to_point", "point_to_plane", "symmetric"])
 @pytest.mark.parametrize("max_dist", [None, 0.15])
-def test_answers_equal_a_plain_query(monkeypatch, metric, max_dist):
+def test_answers_equal_a_plain_query(monkeypatch, metric, max_dist, parts):
+    _split(monkeypatch, parts)
     rng = np.random.default_rng(3)
     src = _blob(3000, 1)
     dst = _blob(2500, 2) @ ROT.T + [0.03, -0.02, 0.01] + rng.normal(0, 0.002, (2500, 3))
@@ -98,7 +107,9 @@ def test_partial_overlap_and_far_coordinates(monkeypatch):
          max_iterations=20, tolerance=0.0)
 
 
-def test_ties_on_a_lattice_are_the_trees_own_choice(monkeypatch):
+@pytest.mark.parametrize("parts", [1, 2])
+def test_ties_on_a_lattice_are_the_trees_own_choice(monkeypatch, parts):
+    _split(monkeypatch, parts)
     # a grid against the same grid shifted by half a cell along x: every source point is
     # equidistant from two target points
     g = np.arange(12, dtype=float)
@@ -114,3 +125,35 @@ def test_partners_are_kept_once_the_steps_are_small(monkeypatch):
     dst = _blob(3000, 2) @ ROT.T + rng.normal(0, 0.002, (3000, 3))
     assert _queried_fewer(monkeypatch, src, dst, metric="point_to_plane", max_iterations=30,
                           tolerance=0.0)
+
+
+@pytest.mark.parametrize("kw", [
+    {"max_correspondence_distance": 0.15},
+    {"metric": "point_to_plane"},
+    {"metric": "symmetric", "max_correspondence_distance": 0.1},
+    {"overlap": 0.8, "kernel": "huber", "init": "pca"},
+])
+def test_the_result_does_not_depend_on_the_threads(monkeypatch, kw):
+    rng = np.random.default_rng(6)
+    src = _blob(3000, 7)
+    dst = _blob(2800, 8) @ ROT.T + [0.02, 0.0, -0.03] + rng.normal(0, 0.002, (2800, 3))
+    results = []
+    for parts in (1, 2, 5):
+        _split(monkeypatch, parts)
+        threads = []
+        original = icp_mod._Problem.threads
+
+        def spy(self, _original=original, _threads=threads):
+            _threads.append(len(self.parts) - 1)
+            return _original(self)
+
+        monkeypatch.setattr(icp_mod._Problem, "threads", spy)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = icp_mod.icp(src, dst, max_iterations=20, tolerance=0.0, **kw)
+        assert threads == [parts]  # the split really happened
+        results.append(res)
+    for other in results[1:]:
+        np.testing.assert_array_equal(other.transform, results[0].transform)
+        np.testing.assert_array_equal(other.rmse_history, results[0].rmse_history)
+        assert other.fitness == results[0].fitness
