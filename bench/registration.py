@@ -180,7 +180,8 @@ def case_icp(n: int, iterations: int = ITERATIONS, large: bool = False) -> None:
     label = f"ICP p2p {n:,}↔{n:,}"
     if large and o3d is None:
         return
-    kd = "kd-tree workers -1 from 8,192 points (1 core under the 1-thread policy)"
+    kd = ("nearest-point search split over every core from 2 × icp.PART_MIN source points "
+          "(1 core under the 1-thread policy)")
     if o3d is not None:
         reg = o3d.pipelines.registration
         est = reg.TransformationEstimationPointToPoint()
