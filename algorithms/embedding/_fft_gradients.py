@@ -33,7 +33,12 @@ nodes). So one forward and ``d`` inverse transforms per evaluation, where four s
 convolutions would need four of each. The number of boxes is rounded up to a 5-smooth
 integer (the FFT lengths, twice the nodes, are then pocketfft's fastest), and in two
 dimensions the column transforms skip the empty half of the padded grid (forward) and
-the rows never read (inverse).
+the rows never read (inverse). Each kernel is even or odd along each axis, so its
+transform is kept as one real quarter of the spectrum (:func:`_kernels`, by type-I DCTs
+and DSTs), and the inverse transforms go by bands of columns: an evaluation holds about
+three grids of the charges' transform, no more (2,000 points: t-SNE's peak memory 58 MiB
+with every kernel a complex grid, cached four at a time, 11 MiB now). A loop of
+evaluations holds an :class:`FFTRepulsion`, which keeps the last grid's kernels.
 
 Cost :math:`O(n p^d + N^d \log N)` per evaluation, :math:`N` the grid nodes per dimension.
 Everything is numpy (``bincount`` to spread, ``take`` to gather, ``scipy.fft``),
@@ -43,13 +48,14 @@ with no per-point Python loop; the result is deterministic.
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 
 import numpy as np
 import scipy.fft as sfft
 
 from algorithms.core.types import FloatArray
 
-__all__ = ["repulsion_fft"]
+__all__ = ["FFTRepulsion", "repulsion_fft"]
 
 #: Interpolation nodes per box and dimension. FIt-SNE and openTSNE use 3. On a final
 #: 2,000-point embedding (20 clusters in 50-D) the repulsion's median relative error is
@@ -63,6 +69,10 @@ N_INTERPOLATION = 4
 #: Fewest boxes per dimension, and the box side (openTSNE's defaults).
 MIN_BOXES = 50
 BOX_SIDE = 1.0
+#: Cells of the spectrum handled at once after the forward transform (the temporaries).
+_BAND_CELLS = 1 << 15
+#: Fewest columns of a band (the transforms of narrower ones cost more than they save).
+_BAND_MIN = 32
 
 
 @functools.lru_cache(maxsize=1)
@@ -117,37 +127,92 @@ def _lagrange(t: FloatArray, p: int) -> FloatArray:
     return out.T
 
 
-@functools.lru_cache(maxsize=4)
 def _kernels(d: int, nodes_1d: int, spacing: float) -> tuple[np.ndarray, np.ndarray]:
-    r"""Transforms of the kernels on the circulant grid of node offsets (side
-    ``m = 2 nodes_1d``, zero at offsets of ``nodes_1d`` or more): the ``d`` components of
-    :math:`G(\delta) = K_1(\delta)^2 \delta` (complex64, ``rfftn`` over the last axis
-    halved), and the weights :math:`\hat K_1(f)\, c(f) / m^d` (float64, each twice:
-    for the real and the imaginary part of :math:`\hat c(f)`) that give
-    :math:`Z` from the charges' transform by Parseval, :math:`c(f)` counting each
-    half-spectrum frequency with its mirror. Cached: the grid changes only now and then."""
-    m = 2 * nodes_1d
-    steps = np.arange(m)
-    off = np.where(steps < nodes_1d, steps, steps - m).astype(np.float64)
-    inside = np.abs(off) < nodes_1d
-    off *= spacing
+    r"""The kernels' transforms on the circulant grid of node offsets (side
+    ``m = 2 N``, ``N = nodes_1d``; zero at the offset ``N``), at the frequencies
+    :math:`0 \le u, v \le N` only (a quarter of the spectrum, the rest by symmetry,
+    :func:`_spectrum_band`), both float32 (single precision, as the transforms):
+
+    - ``g``: :math:`\operatorname{Im} \hat G_0(u, v)` for the first component
+      :math:`G_0(\delta) = K_1(\delta)^2 \delta_0`. It is odd in its own axis and even
+      in the other, so its transform is imaginary, odd in ``u`` and even in ``v``; the
+      second component is its transpose, :math:`\hat G_1(u, v) = \hat G_0(v, u)`.
+    - ``w``: the weights :math:`\hat K_1(f)\, c(f) / m^d` that give :math:`Z` from the
+      power :math:`\lvert \hat c(f) \rvert^2` of the charges' transform by Parseval,
+      :math:`c(f)` counting each column of ``rfftn``'s half spectrum with its mirror
+      (:math:`K_1` even: its transform is real and even).
+
+    So the transforms are real ones of the quarter grid (type-I DCT for an even axis,
+    type-I DST for an odd one): a quarter of the memory of one complex grid, and no
+    complex grid at all while they are made. In 1-D ``g`` and ``w`` have ``N + 1``
+    entries (``rfft``'s half spectrum)."""
+    a = np.arange(nodes_1d + 1)
+    off = (a * spacing).astype(np.float32)           # offsets 0 … N (N: the padding's)
+    sq = off * off
+    scale = np.full(nodes_1d + 1, 2.0)
+    scale[0] = scale[-1] = 1.0                       # the columns without a mirror
+    scale = (scale / float(2 * nodes_1d) ** d).astype(np.float32)
     if d == 1:
-        grids, mask = [off], inside
+        k1 = 1.0 / (1.0 + sq)
+        k1[nodes_1d] = 0.0
+        odd = k1 * k1 * off
+        g = np.zeros(nodes_1d + 1, dtype=np.float32)
+        g[1:nodes_1d] = -sfft.dst(odd[1:nodes_1d], type=1)
+        w = sfft.dct(k1, type=1) * scale
     else:
-        grids = [np.broadcast_to(off[:, None], (m, m)), np.broadcast_to(off[None, :], (m, m))]
-        mask = inside[:, None] & inside[None, :]
-    k1 = np.where(mask, 1.0 / (1.0 + sum(g * g for g in grids)), 0.0)
-    k2 = k1 * k1
-    axes = tuple(range(1, d + 1))
-    g_hat = sfft.rfftn(np.stack([k2 * g for g in grids]).astype(np.float32), axes=axes)
-    k1_hat = sfft.rfftn(k1.astype(np.float32)).real.astype(np.float64)   # K1 even: real
-    mult = np.full(m // 2 + 1, 2.0)
-    mult[0] = mult[-1] = 1.0                         # the columns without a mirror
-    # one weight for the real and one for the imaginary part of each frequency
-    z_weights = np.repeat(k1_hat * mult / float(m) ** d, 2, axis=-1)
-    g_hat.setflags(write=False)
-    z_weights.setflags(write=False)
-    return g_hat, z_weights
+        k1 = sq[:, None] + sq[None, :]
+        k1 += 1.0
+        np.reciprocal(k1, out=k1)
+        k1[nodes_1d, :] = k1[:, nodes_1d] = 0.0
+        w = sfft.dct(sfft.dct(k1, type=1, axis=0), type=1, axis=1)
+        w *= scale                                   # by column
+        odd = k1[1:nodes_1d]                         # K1² δ_0, rows 1 … N - 1 (0 elsewhere)
+        odd *= odd
+        odd *= off[1:nodes_1d, None]
+        g = np.zeros((nodes_1d + 1, nodes_1d + 1), dtype=np.float32)
+        g[1:nodes_1d] = -sfft.dst(sfft.dct(odd, type=1, axis=1), type=1, axis=0)
+    g.setflags(write=False)
+    w.setflags(write=False)
+    return g, w
+
+
+def _spectrum_band(quarter: np.ndarray, cols: slice, sign: float, transpose: bool
+                   ) -> np.ndarray:
+    """Columns ``cols`` of a 2-D kernel's ``rfftn`` half spectrum (all ``m`` rows) from
+    its quarter (:func:`_kernels`): rows ``u > N`` mirror rows ``m - u`` times ``sign``
+    (−1: odd in ``u``); with ``transpose`` the spectrum is the quarter's transpose
+    (the second component of ``G``, even in ``u``)."""
+    nodes_1d = quarter.shape[0] - 1
+    part = quarter[cols].T if transpose else quarter[:, cols]         # (N + 1, w)
+    band = np.empty((2 * nodes_1d, part.shape[1]), dtype=np.float32)
+    band[:nodes_1d + 1] = part
+    np.multiply(part[nodes_1d - 1:0:-1], sign, out=band[nodes_1d + 1:])
+    return band
+
+
+class FFTRepulsion:
+    """:func:`repulsion_fft` with the kernels' transforms of the last grid kept: the grid
+    grows with the embedding and changes only now and then (2,000 points, 750 steps: 62
+    grids, each used for a run of steps, never again after the next), so one grid is
+    kept, and only for the life of this object (one t-SNE run): the cache is not a
+    module's, holding memory after the run."""
+
+    def __init__(self) -> None:
+        self._key: tuple[int, int, float] | None = None
+        self._kernels: tuple[np.ndarray, np.ndarray] | None = None
+
+    def kernels(self, d: int, nodes_1d: int, spacing: float
+                ) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`_kernels` of this grid, from the cache if it is the last one's."""
+        key = (d, nodes_1d, spacing)
+        if self._key != key or self._kernels is None:
+            self._kernels = None                     # the old grid freed before the new
+            self._kernels, self._key = _kernels(d, nodes_1d, spacing), key
+        return self._kernels
+
+    def __call__(self, y: FloatArray) -> tuple[FloatArray, float]:
+        """:func:`repulsion_fft` of ``y``."""
+        return _repulsion(y, self.kernels)
 
 
 def repulsion_fft(y: FloatArray) -> tuple[FloatArray, float]:
@@ -164,7 +229,17 @@ def repulsion_fft(y: FloatArray) -> tuple[FloatArray, float]:
         :math:`r_i = \\sum_j K_2(y_i, y_j)(y_i - y_j)` (not yet divided by ``Z``).
     z : float
         :math:`Z = \\sum_{i \\ne j} K_1(y_i, y_j)`.
+
+    A loop of evaluations (an optimisation) should hold an :class:`FFTRepulsion`, which
+    keeps the kernels of the last grid.
     """
+    return _repulsion(y, _kernels)
+
+
+def _repulsion(y: FloatArray, kernels: Callable[[int, int, float],
+                                                tuple[np.ndarray, np.ndarray]]
+               ) -> tuple[FloatArray, float]:
+    """:func:`repulsion_fft` with the grid's kernels from ``kernels``."""
     n, d = y.shape
     p = N_INTERPOLATION
     lo = y.min(axis=0)
@@ -172,11 +247,11 @@ def repulsion_fft(y: FloatArray) -> tuple[FloatArray, float]:
     side, boxes = _grid(span)
     nodes_1d = boxes * p
     m = 2 * nodes_1d
-    g_hat, z_weights = _kernels(d, nodes_1d, side / p)
+    g_im, z_weights = kernels(d, nodes_1d, side / p)
 
-    # per dimension: Lagrange weights and the first node of each point's box; the grid is
-    # stored with rows of length m (the zero padding of the last axis is part of the
-    # array), so that one flat index spreads the charges and reads the potentials
+    # per dimension: Lagrange weights and the first node of each point's box; one flat
+    # index into the N^d nodes spreads the charges and reads the potentials (the zero
+    # padding to m per axis is the transforms')
     lks, firsts = [], []
     for k in range(d):
         u = (y[:, k] - lo[k]) * (1.0 / side)
@@ -189,29 +264,43 @@ def repulsion_fft(y: FloatArray) -> tuple[FloatArray, float]:
     else:
         weights = np.repeat(lks[0], p, axis=1)
         weights *= np.tile(lks[1], (1, p))                           # (n, p²): [a p + b]
-        offsets = (np.arange(p)[:, None] * m + np.arange(p)[None, :]).ravel()
-        flat = (firsts[0] * m + firsts[1])[:, None] + offsets
-    idx = flat.ravel()
-
-    rows = nodes_1d if d == 2 else 1
-    charges = np.bincount(idx, weights=weights.ravel(), minlength=rows * m)
-    c32 = charges.astype(np.float32).reshape((rows, m) if d == 2 else (m,))
-    if d == 1:
-        c_hat = sfft.rfft(c32)
-        pots = sfft.irfft(g_hat * c_hat[None], n=m, axis=-1)            # (1, m)
-    else:
-        # pruned: the column transforms skip the empty rows (forward) and the rows that
-        # are never read (inverse)
-        c_hat = sfft.fft(sfft.rfft(c32, axis=1), n=m, axis=0)           # (m, m/2 + 1)
-        prod = g_hat * c_hat[None]
-        half = sfft.ifft(prod, axis=1, overwrite_x=True)[:, :nodes_1d]
-        pots = sfft.irfft(half, n=m, axis=2)                            # (2, N, m)
-    pots = pots.reshape(d, -1)
-    parts = c_hat.view(np.float32).ravel()                   # re, im, re, im, ...
-    power = (parts * parts).astype(np.float64)               # summed in double precision
-    z = float(np.dot(z_weights.ravel(), power)) - n            # remove K1(y_i, y_i) = 1
-
+        offsets = (np.arange(p)[:, None] * nodes_1d + np.arange(p)[None, :]).ravel()
+        flat = (firsts[0] * nodes_1d + firsts[1])[:, None] + offsets
+    charges = np.bincount(flat.ravel(), weights=weights.ravel(), minlength=nodes_1d ** d
+                          ).astype(np.float32).reshape((nodes_1d,) * d)
+    z = -float(n)                                   # remove K1(y_i, y_i) = 1
     rep = np.empty((n, d))
-    for k in range(d):
-        rep[:, k] = np.einsum("ij,ij->i", pots[k].take(flat), weights, dtype=np.float64)
+    if d == 1:
+        c_hat = sfft.rfft(charges, n=m)
+        z += float(np.dot(z_weights, np.square(np.abs(c_hat), dtype=np.float64)))
+        line = sfft.irfft(1j * g_im * c_hat, n=m)[:nodes_1d]
+        rep[:, 0] = np.einsum("ij,ij->i", line.take(flat), weights, dtype=np.float64)
+        return rep, z
+    # pruned: the column transforms skip the empty rows
+    rows_hat = sfft.rfft(charges, n=m, axis=1)
+    del charges
+    c_hat = sfft.fft(rows_hat, n=m, axis=0)                             # (m, N + 1)
+    del rows_hat
+    # Z by Parseval, then each component's inverse transform (the columns first, keeping
+    # only the rows that are read), in bands of columns of the spectrum: the
+    # temporaries are bands, not grids
+    step = max(_BAND_MIN, _BAND_CELLS // m)
+    for s in range(0, nodes_1d + 1, step):
+        cs = c_hat[:, s:s + step]
+        power = np.square(cs.real, dtype=np.float64)    # summed in double precision
+        power += np.square(cs.imag, dtype=np.float64)
+        band = _spectrum_band(z_weights, slice(s, s + step), 1.0, False)
+        z += float(np.dot(band.ravel(), power.ravel()))
+    for k in range(2):
+        half = np.empty((nodes_1d, nodes_1d + 1), dtype=np.complex64)
+        for s in range(0, nodes_1d + 1, step):
+            cols = slice(s, s + step)
+            prod = c_hat[:, cols] * _spectrum_band(g_im, cols, -1.0 if k == 0 else 1.0,
+                                                   k == 1)
+            prod *= 1j                                  # the transform of G: imaginary
+            half[:, cols] = sfft.ifft(prod, axis=0, overwrite_x=True)[:nodes_1d]
+        pots = sfft.irfft(half, n=m, axis=1)[:, :nodes_1d].ravel()     # (N × N)
+        del half
+        rep[:, k] = np.einsum("ij,ij->i", pots.take(flat), weights, dtype=np.float64)
+        del pots
     return rep, z

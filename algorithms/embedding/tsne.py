@@ -20,7 +20,7 @@ from algorithms.core.progress import Progress, as_progress
 from algorithms.core.threads import single_blas_thread
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_points
-from algorithms.embedding._fft_gradients import repulsion_fft
+from algorithms.embedding._fft_gradients import FFTRepulsion
 from algorithms.embedding._quality import _nearest_neighbors, fix_signs, trustworthiness
 
 __all__ = ["TSNEResult", "tsne", "check_tsne", "Method", "Start", "LearningRate", "METHODS",
@@ -49,7 +49,7 @@ _MAX_STEP = 5.0
 #: Pairs of P per chunk of the attraction (its temporaries: a few such float arrays).
 _PAIR_CHUNK = 131_072
 #: Rows of the perplexity calibration at once (its temporaries: a few such blocks).
-_CALIBRATE_ROWS = 4096
+_CALIBRATE_ROWS = 1024
 
 
 @dataclass(frozen=True, eq=False)
@@ -674,6 +674,7 @@ def tsne(
         p_sparse, input_d2, input_nbr = _sparse_affinities(x, perp)
         attraction = _SparseAttraction(p_sparse)
         del p_sparse                                # the attraction holds its own (smaller) copy
+        repulsion_fft = FFTRepulsion()              # the last grid's kernels, for this run
 
         def gradient(yy: FloatArray, alpha: float, want: bool) -> tuple[float, FloatArray]:
             att, plogw = attraction(yy, want)
@@ -691,7 +692,7 @@ def tsne(
     if method == "exact":
         del p
     else:
-        del attraction
+        del attraction, repulsion_fft
     y = y if given else fix_signs(y)
     lists = None if method == "exact" else (input_d2, input_nbr)
     return TSNEResult(

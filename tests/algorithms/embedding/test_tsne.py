@@ -20,7 +20,7 @@ from threadpoolctl import threadpool_limits
 from algorithms.core.errors import Cancelled, InvalidInputError
 from algorithms.embedding import sne, tsne
 from algorithms.embedding import trustworthiness as package_trustworthiness
-from algorithms.embedding._fft_gradients import repulsion_fft
+from algorithms.embedding._fft_gradients import FFTRepulsion, _kernels, repulsion_fft
 from algorithms.embedding._quality import _nearest_neighbors
 from algorithms.embedding.tsne import (
     _calibrate,
@@ -123,6 +123,62 @@ def test_fft_repulsion_matches_all_pairs(d: int, scale: float, tol: float) -> No
     assert z == pytest.approx(w.sum(), rel=tol / 10)
     err = np.linalg.norm(rep - rep_exact) / np.linalg.norm(rep_exact)
     assert err < tol
+
+
+@pytest.mark.parametrize("d", [1, 2])
+def test_fft_kernels_quarters_are_the_full_transforms(d: int) -> None:
+    # the circulant grid of offsets built by hand (side m = 2N, zero at offset N), its
+    # kernels transformed in double precision by rfftn: the quarter spectra kept in single
+    # precision are their imaginary part (G) and real part (K1), the rest of the spectrum
+    # the odd / even mirror, and G's second component the transpose of the first
+    nodes, spacing = 12, 0.25
+    m = 2 * nodes
+    a = np.arange(m)
+    off = np.where(a < nodes, a, a - m) * spacing
+    grids = np.meshgrid(*([off] * d), indexing="ij")
+    k1 = 1.0 / (1.0 + sum(g * g for g in grids))
+    for axis in range(d):
+        k1[(slice(None),) * axis + (nodes,)] = 0.0
+    g_full = [np.fft.rfftn(k1 * k1 * g) for g in grids]
+    k1_full = np.fft.rfftn(k1)
+    g_q, w_q = _kernels(d, nodes, spacing)
+    assert g_q.dtype == w_q.dtype == np.float32
+    mult = np.full(nodes + 1, 2.0)
+    mult[[0, -1]] = 1.0
+    scale = mult / float(m) ** d
+    for full in [*g_full, k1_full]:  # imaginary (odd G) and real (even K1) transforms
+        part = full.real if full is k1_full else full.imag
+        assert np.abs(full.imag if full is k1_full else full.real).max() < 1e-12
+        assert np.abs(part).max() > 1.0
+    if d == 1:
+        np.testing.assert_allclose(g_q, g_full[0].imag, atol=2e-6 * np.abs(g_q).max())
+        w = k1_full.real * scale
+        np.testing.assert_allclose(w_q, w, atol=2e-6 * np.abs(w).max())
+        return
+    tol = 2e-6 * np.abs(g_full[0]).max()
+    np.testing.assert_allclose(g_q, g_full[0].imag[:nodes + 1], atol=tol)
+    np.testing.assert_allclose(-g_q[nodes - 1:0:-1], g_full[0].imag[nodes + 1:], atol=tol)
+    np.testing.assert_allclose(g_q.T, g_full[1].imag[:nodes + 1], atol=tol)
+    np.testing.assert_allclose(g_q.T[nodes - 1:0:-1], g_full[1].imag[nodes + 1:], atol=tol)
+    w = k1_full.real * scale
+    tol = 2e-6 * np.abs(w).max()
+    np.testing.assert_allclose(w_q, w[:nodes + 1], atol=tol)
+    np.testing.assert_allclose(w_q[nodes - 1:0:-1], w[nodes + 1:], atol=tol)
+
+
+def test_fft_repulsion_keeps_one_grid_and_the_same_sums() -> None:
+    # the cache of a run gives the sums of the uncached function; a grown embedding
+    # (another grid) replaces the kept kernels, it does not add to them
+    rng = np.random.default_rng(3)
+    y = rng.normal(size=(500, 2))
+    rep = FFTRepulsion()
+    for scale in (1.0, 1.0, 40.0):
+        got, z = rep(y * scale)
+        want, z_want = repulsion_fft(y * scale)
+        np.testing.assert_array_equal(got, want)
+        assert z == z_want
+    key = rep._key
+    assert key is not None and key[1] > 200 and len(vars(rep)) == 2
 
 
 @pytest.mark.parametrize("dim", [3, 20])
