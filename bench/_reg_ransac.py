@@ -81,7 +81,8 @@ def case_ransac(quick: bool) -> None:
 
     probe = data(0)
     size = f"{len(probe['src']):,}↔{len(probe['dst']):,}"
-    threads = "kd-tree workers -1 from 8,192 points (1 core under the 1-thread policy)"
+    threads = ("kd-tree workers -1 from 8,192 points, the ICP refinement's search split "
+               "over the cores (1 core under the 1-thread policy)")
     try:
         import open3d as o3d  # noqa: PLC0415 - optional peer
     except ImportError:
