@@ -358,6 +358,12 @@ class Engine:
         elif handle.future is not None:
             await self._signal_cancel(job_id)
             await handle.future.cancel()
+        else:
+            # on the fast path: its pool kills the worker within POLL_INTERVAL, and the run
+            # it gives back is recorded by nobody (the handle is gone). Recorded at once, as
+            # a direct job is, so that whoever reads the dismissed row (the client, the
+            # metrics) finds the job ended, not still counted as running
+            await self._record(handle, Outcome.dismissed())
 
     async def _signal_cancel(self, job_id: str) -> None:
         try:

@@ -124,6 +124,56 @@ def test_a_job_dismissed_while_it_ran_ends_dismissed_whatever_it_returned() -> N
     asyncio.run(scenario())
 
 
+class _SlowPool:
+    """A fast-path pool whose worker notices a dismissal only when the test says (a real
+    one looks every POLL_INTERVAL seconds, then kills the worker and waits for it)."""
+
+    def __init__(self) -> None:
+        self.started = asyncio.Event()
+        self.noticed = asyncio.Event()
+
+    async def run(self, *args: Any, stop: Any, **kwargs: Any) -> Outcome:
+        self.started.set()
+        await self.noticed.wait()
+        assert stop.is_set()
+        return Outcome.dismissed()
+
+
+def test_a_dismissed_fast_job_is_recorded_before_its_worker_stops() -> None:
+    """The race behind a flaky metrics test: a fast-path job was counted dismissed only
+    once its pool had killed the worker, after the DELETE that dismissed it had answered;
+    a client reading the metrics (or waiting on the job) right after the DELETE found it
+    still running. Now ``dismiss`` records it before it returns, and the worker's late
+    answer is not recorded twice."""
+    from service.metrics import Metrics, render, wire
+
+    async def scenario() -> None:
+        job = JobRecord.accepted(process="diagnostics.nap", request=JobRequest(),
+                                 time_limit=None)
+        engine = Engine(Settings(), _DismissedStore(job))  # type: ignore[arg-type]
+        engine._pool = pool = _SlowPool()  # type: ignore[assignment]
+        metrics = Metrics()
+        wire(engine, metrics)
+        heard: list[JobStatus] = []
+        engine.on_finish.append(lambda job, outcome: heard.append(outcome.status))
+        engine.submit(job, {}, fast=True)
+        await pool.started.wait()
+        assert engine.active == 1
+        await engine.dismiss(job.id)
+        assert heard == [JobStatus.DISMISSED] and engine.active == 0  # before: [] and 1
+        outcome = await engine.wait(job.id, timeout=0.0)
+        assert outcome is None  # recorded: whoever asks reads the row
+        text = render(metrics, jobs={}, queue=0, workers=0, processes=0)
+        assert 'morphserve_jobs_finished_total{process="diagnostics.nap",status="dismissed"} 1' \
+            in text.splitlines()
+        pool.noticed.set()  # the worker stops: its dismissed run is not recorded again
+        for _ in range(10):
+            await asyncio.sleep(0)
+        assert heard == [JobStatus.DISMISSED] and not engine._tasks
+
+    asyncio.run(scenario())
+
+
 def test_an_announced_job_is_waited_for_until_it_is_submitted_or_forgotten() -> None:
     async def scenario() -> None:
         engine = Engine(Settings(), _GatedStore())  # type: ignore[arg-type]
