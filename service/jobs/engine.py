@@ -37,6 +37,7 @@ callback sees; a Dask job that outlives its time limit (or, sent directly, its d
 from __future__ import annotations
 
 import asyncio
+import contextvars
 import logging
 import pickle
 import threading
@@ -48,6 +49,7 @@ from typing import Any
 import dask
 from distributed import Client, Event, LocalCluster, WorkerPlugin, fire_and_forget
 from distributed.client import Future, FutureCancelledError
+from distributed.core import Status
 from distributed.scheduler import KilledWorker
 from distributed.security import Security
 
@@ -61,7 +63,7 @@ from service.jobs.store import JobRecord, JobStore
 from service.problems import problem_body
 from service.settings import Settings
 
-__all__ = ["Engine", "GRACE", "embedded_cluster"]
+__all__ = ["Engine", "GRACE", "HEARTBEAT_WAIT", "embedded_cluster"]
 
 log = logging.getLogger("morphserve.engine")
 
@@ -100,16 +102,65 @@ async def embedded_cluster(workers: int, *, memory_limit: Any = "auto",
     return cluster
 
 
+HEARTBEAT_WAIT = 2.0
+"""Seconds a closing worker waits for its heartbeats under way to end
+(:meth:`WarmUp.teardown`): a scheduler that is gone answers none."""
+
+_IN_HEARTBEAT = contextvars.ContextVar("morphserve_in_heartbeat", default=False)
+"""True in a worker's heartbeat, and so in the close it runs when the scheduler no longer
+knows the worker."""
+
+
 class WarmUp(WorkerPlugin):
     """Imports the runner (and so the catalog and every algorithm) when a worker starts, has
     the worker report to the scheduler promptly
     (:data:`~service.jobs.scheduler.SEND_INTERVAL`) and take jobs sent to it directly
-    (:mod:`service.jobs.direct`)."""
+    (:mod:`service.jobs.direct`); a closing worker lets its heartbeat end first
+    (:meth:`teardown`)."""
 
     def setup(self, worker: Any) -> None:
         import service.jobs.runner  # noqa: F401
         send_promptly(getattr(worker, "batched_stream", None))
         install(worker)
+        self._beats: set[asyncio.Future[None]] = set()
+        """The worker's heartbeats under way."""
+        timer = worker.periodic_callbacks["heartbeat"]
+        self._heartbeat = heartbeat = timer.callback
+        """The worker's own heartbeat (given back by :meth:`teardown`)."""
+
+        async def beat() -> None:
+            _IN_HEARTBEAT.set(True)  # in this heartbeat's task and the tasks it starts
+            await heartbeat()
+
+        def tracked() -> asyncio.Future[None]:
+            future = asyncio.ensure_future(beat())
+            self._beats.add(future)
+            future.add_done_callback(self._beats.discard)
+            return future  # the timer awaits it, as it awaited the heartbeat
+
+        timer.callback = tracked
+
+    async def teardown(self, worker: Any) -> None:
+        """As the worker closes: stop its heartbeat and wait, up to :data:`HEARTBEAT_WAIT`
+        seconds, for the ones under way to end. Else (the plugin replaced or removed, the
+        worker goes on): give the heartbeat back as it was.
+
+        ``Worker.close`` closes the worker's pool of comms, the ones in use too: a heartbeat
+        waiting there for the scheduler's answer fails on its own closed comm, and the
+        worker logs that with a traceback though nothing is wrong. The embedded cluster
+        closes its workers while its scheduler is up, so a shutdown of the service printed
+        one whenever a heartbeat was under way (a Ctrl-C of ``morphserve serve``, about
+        once in 40 on a loaded 2-core machine). Plugins are torn down early in
+        ``Worker.close``, before it stops its timers and closes the pool. A close that a
+        heartbeat runs (the scheduler no longer knows the worker) waits for none: its
+        heartbeat has its answer, and would wait for the close."""
+        timer = worker.periodic_callbacks["heartbeat"]
+        if worker.status is not Status.closing:
+            timer.callback = self._heartbeat
+            return
+        timer.stop()
+        if self._beats and not _IN_HEARTBEAT.get():
+            await asyncio.wait(set(self._beats), timeout=HEARTBEAT_WAIT)
 
 
 @dataclass
