@@ -29,7 +29,10 @@ cluster's jobs that need nothing of the scheduler go to its workers directly:
 - a worker that dies during a call (crash, memory limit) breaks the comm: :meth:`Slots.run`
   raises :class:`WorkerLost`, the worker is no longer sent jobs, and the engine runs the
   job again, up to ``allowed_failures`` times, as the scheduler would (a job that had not
-  started there yet is sent again without counting). The list of workers follows the
+  started there yet is sent again without counting). A worker that cannot be reached
+  within :data:`CONNECT_TIMEOUT` is only set aside until the next look at the scheduler's
+  list: a replacement the nanny has just started is listed before it answers (its loop
+  busy with its plugins' set-up, seconds under load). The list of workers follows the
   scheduler's (:meth:`Slots.refresh`, twice a second: workers die under the scheduler's
   jobs too, and the nannies' replacements come).
 
@@ -209,8 +212,9 @@ class Slots:
         self._calls: dict[str, _Call] = {}
         """Job id -> its call, sent or waiting."""
         self._lost: set[str] = set()
-        """Workers that died under a call: never taken back, even while the scheduler still
-        lists them (a restarted worker has a new address)."""
+        """Workers that died under a call (the comm broke): never taken back, even while the
+        scheduler still lists them (a restarted worker has a new address). A worker that
+        could not be reached is not among them (:meth:`run`)."""
         self._tasks: set[asyncio.Task[None]] = set()
 
     @property
@@ -349,7 +353,13 @@ class Slots:
                     try:
                         comm = await pool.connect(address, timeout=CONNECT_TIMEOUT)
                     except OSError as exc:
-                        self._drop(address)
+                        # Not reached is not lost: a worker the nanny has just started is
+                        # listed by the scheduler before its loop is free (it then unpickles
+                        # the WarmUp plugin, which imports the service and its algorithms:
+                        # seconds under load), and answers no connection meanwhile. Out
+                        # until the next refresh: back if the scheduler still lists it, gone
+                        # if it died (the scheduler forgets a dead worker).
+                        self._drop(address, lost=False)
                         raise WorkerLost(address, started=False) from exc
                     try:
                         reply = await send_recv(comm, op=RUN, job=job_id, process=process,
