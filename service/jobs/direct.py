@@ -353,12 +353,8 @@ class Slots:
                     try:
                         comm = await pool.connect(address, timeout=CONNECT_TIMEOUT)
                     except OSError as exc:
-                        # Not reached is not lost: a worker the nanny has just started is
-                        # listed by the scheduler before its loop is free (it then unpickles
-                        # the WarmUp plugin, which imports the service and its algorithms:
-                        # seconds under load), and answers no connection meanwhile. Out
-                        # until the next refresh: back if the scheduler still lists it, gone
-                        # if it died (the scheduler forgets a dead worker).
+                        # not reached is not lost (see the module's notes): out until the
+                        # next refresh, back if the scheduler still lists it
                         self._drop(address, lost=False)
                         raise WorkerLost(address, started=False) from exc
                     try:
