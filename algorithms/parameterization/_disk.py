@@ -6,11 +6,12 @@ from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
+import scipy.sparse as sp
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.laplacian import mesh_laplacian
 from algorithms.core.linsolve import PinnedSystem
-from algorithms.core.mesh import Mesh, components, face_angles, loops_of_edges, read_mesh
+from algorithms.core.mesh import Mesh, face_angles, loops_of_edges, pattern_components, read_mesh
 from algorithms.core.types import FloatArray, IntArray
 
 __all__ = ["NotADiskError", "Disk", "read_disk", "check_disk", "convex_boundary", "Boundary",
@@ -76,38 +77,53 @@ def check_disk(mesh: Mesh, *, name: str = "mesh") -> IntArray:
         raise _fail(f"vertex {k} in no face" + (f" ({more} such vertices)" if more > 1 else ""),
                     name)
     a = f.ravel()
-    b = f[:, [1, 2, 0]].ravel()
-    forward = a < b
-    undirected, inverse, ucount = np.unique(np.where(forward, a * n + b, b * n + a),
-                                            return_inverse=True, return_counts=True)
+    b = np.roll(f, -1, axis=1).ravel()           # a[k] -> b[k]: the half-edges, by face
+    # each half-edge as twice its undirected edge's key, plus 1 when it runs from the higher
+    # vertex to the lower: one sort of integers groups the half-edges of each edge, in order
+    # of direction (cheaper than np.unique's argsort, inverse and counts: 2 ms, not 8, for
+    # 300,000 half-edges)
+    half = np.minimum(a, b)
+    half *= n
+    half += np.maximum(a, b)
+    half <<= 1
+    half += a > b
+    half.sort()
+    key = half >> 1
+    start = np.flatnonzero(np.concatenate([[True], key[1:] != key[:-1]]))
+    ucount = np.diff(np.append(start, half.shape[0]))
+    undirected = key[start]
     if (ucount > 2).any():
-        key = int(undirected[np.argmax(ucount > 2)])
-        raise _fail(f"the non-manifold edge ({key // n}, {key % n}) shared by "
-                    f"{int(ucount.max())} faces", name)
-    # an edge of two faces is traversed once each way: its directions (+1 low to high,
-    # -1 back) cancel; +-2 means both faces run it the same way
-    turn = np.bincount(inverse, weights=np.where(forward, 1.0, -1.0),
-                       minlength=undirected.shape[0])
-    same = np.abs(turn) > 1
+        k = int(np.argmax(ucount > 2))
+        raise _fail(f"the non-manifold edge ({undirected[k] // n}, {undirected[k] % n}) shared "
+                    f"by {int(ucount.max())} faces", name)
+    # an edge of two faces is traversed once each way: no two half-edges are equal
+    same = half[1:] == half[:-1]
     if same.any():
-        k = int(np.argmax(same))
-        lo, hi = divmod(int(undirected[k]), n)
-        i, j = (lo, hi) if turn[k] > 0 else (hi, lo)
+        h = int(half[np.argmax(same)])
+        i, j = divmod(h >> 1, n)
+        if h & 1:
+            i, j = j, i
         raise _fail(f"edge ({i}, {j}) traversed in the same direction by two "
                     f"faces (inconsistent orientation or a non-manifold edge)", name)
-    count, _ = components(n, np.stack(np.divmod(undirected, n), axis=1))
+    # the edges sorted by their lower vertex are the upper triangle of the graph, in CSR
+    lo, hi = np.divmod(undirected, n)
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(lo, minlength=n))])
+    count, _ = pattern_components(sp.csr_array((np.ones(hi.shape[0], dtype=np.int8), hi,
+                                                indptr), shape=(n, n)))
     if count > 1:
         raise _fail(f"{count} connected components", name)
-    once = ucount == 1
-    if not once.any():
+    bnd = half[start[ucount == 1]]               # half-edges with no twin
+    if bnd.shape[0] == 0:
         raise _fail("a closed mesh (no boundary); cut it open first", name)
-    is_bnd = once[inverse]                       # half-edges with no twin
-    out_deg = np.bincount(a[is_bnd], minlength=n)
+    lo, hi = np.divmod(bnd >> 1, n)
+    up = (bnd & 1) == 0                          # runs from the lower vertex to the higher
+    bnd_edges = np.stack([np.where(up, lo, hi), np.where(up, hi, lo)], axis=1)
+    out_deg = np.bincount(bnd_edges[:, 0], minlength=n)
     if (out_deg > 1).any():
         k = int(np.argmax(out_deg > 1))
         raise _fail(f"the non-manifold vertex {k} where {int(out_deg[k])} fans of faces "
                     f"touch", name)
-    loops = loops_of_edges(np.stack([a[is_bnd], b[is_bnd]], axis=1))
+    loops = loops_of_edges(bnd_edges)
     if len(loops) != 1:
         raise _fail(f"{len(loops)} boundary loops (a surface with "
                     f"{len(loops) - 1} hole{'s' if len(loops) > 2 else ''}); fill or cut the "

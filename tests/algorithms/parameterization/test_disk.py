@@ -84,3 +84,41 @@ def test_a_disk_with_a_handle_is_refused_by_euler_characteristic() -> None:
     f = np.asarray(t.faces)[1:]                  # remove one face: one boundary loop
     with pytest.raises(NotADiskError, match="Euler characteristic V - E \\+ F = -1"):
         tutte((np.asarray(t.vertices), f))
+
+
+def _half_edge_census(f: np.ndarray) -> tuple[dict, dict]:
+    """A plain-Python count of each undirected edge's faces and of each directed half-edge."""
+    faces_of: dict[tuple[int, int], int] = {}
+    runs: dict[tuple[int, int], int] = {}
+    for tri in np.asarray(f).tolist():
+        for i, j in zip(tri, tri[1:] + tri[:1]):
+            faces_of[min(i, j), max(i, j)] = faces_of.get((min(i, j), max(i, j)), 0) + 1
+            runs[i, j] = runs.get((i, j), 0) + 1
+    return faces_of, runs
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_named_edge_is_the_first_bad_one(seed: int) -> None:
+    # faces flipped at random, and for odd seeds a fin on a random interior edge: the
+    # message names the first (lowest) non-manifold edge with its face count, else the first
+    # edge two faces run the same way, in that direction; checked against a plain count
+    rng = np.random.default_rng(seed)
+    v, f = grid(6, 5)
+    f = f.copy()
+    flip = rng.choice(len(f), size=3, replace=False)
+    f[flip] = f[flip, ::-1]
+    v = np.c_[v, np.zeros(len(v))]
+    if seed % 2:
+        i, j = (int(x) for x in f[rng.integers(len(f)), :2])
+        v = np.r_[v, [[0.5, 0.5, 1.0]]]
+        f = np.r_[f, [[i, j, len(v) - 1]]]
+    faces_of, runs = _half_edge_census(f)
+    fins = sorted(e for e, c in faces_of.items() if c > 2)
+    twice = sorted((min(e), max(e), e) for e, c in runs.items() if c > 1)
+    if fins:
+        words = (f"non-manifold edge {fins[0]} shared by {max(faces_of.values())} faces")
+    else:
+        words = f"edge {twice[0][2]} traversed in the same direction by two faces"
+    with pytest.raises(NotADiskError) as info:
+        harmonic((v, f))
+    assert words in str(info.value)
