@@ -3,7 +3,7 @@
 openTSNE's default ``negative_gradient_method="auto"`` is Barnes–Hut (θ = 0.5) below
 10,000 points and FFT interpolation from 10,000: its rows below 10,000 points (``--quick``)
 compare our FFT repulsion with its Barnes–Hut one, the more accurate of the two there (the
-final KLs measured are in ``algorithms.embedding._fft_gradients.N_INTERPOLATION``'s note).
+final KLs measured are in ``algorithms.embedding._fft_gradients.NODE_SPACING``'s note).
 
 :func:`case_tsne` adds rows to ``bench/embedding.py``'s table through
 ``_common.compare`` (ours and the peer alternately, on the data of seeds 0..2, after a

@@ -13,31 +13,55 @@ and of its square :math:`K_2 = K_1^2`:
 Both are sums :math:`\phi(y_i) = \sum_j K(y_i, y_j)\, q_j` of a smooth kernel against
 charges :math:`q_j = 1`, for the kernels :math:`K_1` and :math:`G(\delta) = K_2(\delta)\,
 \delta` (one scalar and ``d`` vector components: no cancellation between large terms, as
-there would be in :math:`y_i \sum_j K_2 - \sum_j K_2 y_j`). The bounding box of the points
-is cut into boxes of side 1 (at least 50 per dimension; a smaller embedding gets boxes
-of a power-of-two fraction of 1), each with :math:`p = 4` equispaced interpolation nodes
-per dimension, so that all nodes form one uniform grid:
+there would be in :math:`y_i \sum_j K_2 - \sum_j K_2 y_j`). A uniform grid of nodes
+spaced :math:`h = 1/3` (openTSNE's spacing: 3 nodes in a box of side 1; at least 200 nodes
+per dimension, a smaller embedding gets a power-of-two fraction of :math:`h`) covers the
+bounding box of the points:
 
-1. each point's charges are spread onto the :math:`p^d` nodes of its box with the
-   Lagrange polynomials of its position (the transpose of interpolation);
+1. each point's charge is spread onto the :math:`p^d` nodes nearest it, :math:`p = 4` per
+   dimension, with the Lagrange polynomials of its position (the transpose of
+   interpolation);
 2. the kernel between grid nodes is a Toeplitz matrix: the node potentials are a discrete
    convolution, done by FFT on a zero-padded (circulant) grid;
 3. the potentials are interpolated back to the points with the same Lagrange weights.
 
+Why the nearest nodes, not those of the point's box. FIt-SNE and openTSNE cut the grid into
+boxes of :math:`p` nodes and interpolate each point from its own box's nodes, so a point
+near a box's edge sits outside its nodes' span, where Lagrange interpolation degrades: the
+error factor :math:`\prod_k (t - t_k)` reaches :math:`6.6\,h^4` there (nodes at
+:math:`t_k = 0, h, 2h, 3h`, the point at :math:`-h/2`) but at most :math:`0.56\,h^4` for a
+point in the middle interval, where the nearest nodes put every point (except within two
+spacings of the grid's ends, where the stencil stops at the last node). The same four
+nodes per dimension and the same grid cost, 2.5-3× less error in the repulsion at a given
+spacing: enough to widen the spacing from :math:`1/4` (the box stencils with 4 nodes) to
+:math:`1/3` with both a smaller grid and a better final KL (the figures are at
+:data:`NODE_SPACING`).
+
+The spread charge of a point interacts with itself on the grid:
+:math:`\sum_{a,b} w_{ia} K_1(x_a - x_b) w_{ib}` over its stencil's nodes :math:`x_a`, not
+exactly :math:`K_1(0) = 1` where the interpolation is not exact. :math:`Z` removes that
+term itself, point by point (a :math:`p^d \times p^d` matrix, the same for every point),
+rather than :math:`n`: on sparse embeddings (points a few units apart) this cuts the
+relative error of :math:`Z` from :math:`10^{-3}`–:math:`10^{-2}` to about
+:math:`10^{-4}`. The repulsion needs no such term: :math:`G` is odd, so
+:math:`w_i^\mathsf{T} G\, w_i = 0`.
+
 Only the ``d`` components of :math:`G` are transformed back: :math:`\sum_i \phi_{K_1}(y_i)`
 is the inner product of the grid charges with their convolution by :math:`K_1`, which
 Parseval's identity gives from the charges' transform already at hand,
-:math:`Z + n = m^{-d} \sum_f \hat K_1(f)\, \lvert \hat c(f) \rvert^2` (``m`` the padded
+:math:`Z + s = m^{-d} \sum_f \hat K_1(f)\, \lvert \hat c(f) \rvert^2` (``m`` the padded
 grid side; the zero padding makes the circular convolution the linear one on the
-nodes). So one forward and ``d`` inverse transforms per evaluation, where four separate
-convolutions would need four of each. The number of boxes is rounded up to a 5-smooth
+nodes; ``s`` the self-interactions below). So one forward and ``d`` inverse transforms per
+evaluation, where four separate convolutions would need four of each. The number of nodes
+is rounded up to a 5-smooth
 integer (the FFT lengths, twice the nodes, are then pocketfft's fastest), and in two
 dimensions the column transforms skip the empty half of the padded grid (forward) and
 the rows never read (inverse). Each kernel is even or odd along each axis, so its
 transform is kept as one real quarter of the spectrum (:func:`_kernels`, by type-I DCTs
 and DSTs), and the inverse transforms go by bands of columns: an evaluation holds about
-three grids of the charges' transform, no more (a 2,000-point run's grid of 384 nodes a
-side: 1.2 MB of kernels kept, where up to four grids of 9.5 MB each were cached). A loop
+three grids of the charges' transform, no more (a 2,000-point run's grid of about 300
+nodes a side: under 1 MB of kernels kept, where up to four grids of 6 MB each would be
+cached). A loop
 of evaluations holds an :class:`FFTRepulsion`, which keeps the last grid's kernels.
 
 Cost :math:`O(n p^d + N^d \log N)` per evaluation, :math:`N` the grid nodes per dimension.
@@ -53,22 +77,25 @@ from collections.abc import Callable
 import numpy as np
 import scipy.fft as sfft
 
-from algorithms.core.types import FloatArray
+from algorithms.core.types import FloatArray, IntArray
 
 __all__ = ["FFTRepulsion", "repulsion_fft"]
 
-#: Interpolation nodes per box and dimension. FIt-SNE and openTSNE use 3. On a final
-#: 2,000-point embedding (20 clusters in 50-D) the repulsion's median relative error is
-#: 1.4 % with 3 nodes (openTSNE's own FFT: 1.0 %), 0.4 % with 4, 0.1 % with 5 (1.6× the
-#: grid). The final KL of that case (median of 3 seeds, the same P and start) follows the
-#: repulsion's accuracy: 0.845 with 3 nodes, 0.827 with 4, 0.813 with 5, 0.807 with the
-#: exact repulsion (an exact Z alone changes nothing: 0.843 with 3 nodes); openTSNE's own
-#: 3-node FFT inside our descent 0.826, openTSNE's default there (Barnes–Hut below 10,000
-#: points) 0.815.
+#: Interpolation nodes per point and dimension: the ``p`` grid nodes nearest the point
+#: (cubic Lagrange interpolation for 4).
 N_INTERPOLATION = 4
-#: Fewest boxes per dimension, and the box side (openTSNE's defaults).
-MIN_BOXES = 50
-BOX_SIDE = 1.0
+#: Node spacing of the grid (openTSNE's: 3 nodes in a box of side 1), and its fewest nodes
+#: per dimension (a smaller embedding gets a spacing of a power-of-two fraction of it).
+#: Measured on 2,000 points in 20 clusters in 50-D (median of 3 seeds run twice, the same
+#: P and start, one thread; times relative to the box stencils in the same run): the box
+#: stencils these replaced (4 nodes per box of side 1, spacing 1/4) end at KL 0.825; the
+#: nearest nodes at spacing 1/4 at 0.809 (time 1.10×), at 0.3 at 0.811 (0.87×), at 1/3 at
+#: 0.812 (0.76×; 0.82× with the self-interaction term of Z); the exact repulsion at 0.807
+#: and openTSNE's default there (Barnes-Hut below 10,000 points) at 0.815. 10,000 points
+#: (2 seeds): 2.171 -> 2.163, time 0.91×; 30,000 (1 seed): 3.183 -> 3.178, 0.97×. The
+#: final embedding of the more accurate repulsion is about 10 % wider (its grid with it).
+NODE_SPACING = 1.0 / 3.0
+MIN_NODES = 200
 #: Cells of the spectrum handled at once after the forward transform (the temporaries).
 _BAND_CELLS = 1 << 15
 #: Fewest columns of a band (the transforms of narrower ones cost more than they save).
@@ -92,7 +119,7 @@ def _smooth_numbers(limit: int = 1 << 16) -> np.ndarray:
     return np.array(sorted(out), dtype=np.int64)
 
 
-def _box_count(needed: int) -> int:
+def _smooth_ceil(needed: int) -> int:
     """The smallest 5-smooth integer ``>= needed`` (then every FFT length, twice the
     nodes, is 5-smooth too: pocketfft's fastest)."""
     smooth = _smooth_numbers()
@@ -102,25 +129,35 @@ def _box_count(needed: int) -> int:
 
 
 def _grid(span: float) -> tuple[float, int]:
-    """Box side and box count for an embedding of extent ``span``: boxes of side 1 (at
-    least ``MIN_BOXES`` of them); a smaller embedding gets boxes of a power-of-two
-    fraction of 1. The count is rounded up to a 5-smooth number, so the grid (and with it
-    the kernels' cached transforms) changes only now and then."""
-    side = BOX_SIDE
-    if span < MIN_BOXES * BOX_SIDE:
-        side *= 2.0 ** np.ceil(np.log2(max(span, 1e-12) / (MIN_BOXES * BOX_SIDE)))
-    return side, _box_count(int(span / side) + 1)
+    """Node spacing and node count per dimension for an embedding of extent ``span``:
+    spacing ``NODE_SPACING`` (at least ``MIN_NODES`` nodes; a smaller embedding gets a
+    power-of-two fraction of it), node 0 at the lowest point, the last node at or beyond
+    the highest. The count is rounded up to a 5-smooth number, so the grid (and with it the
+    kernels' cached transforms) changes only now and then."""
+    h = NODE_SPACING
+    if span < MIN_NODES * NODE_SPACING:
+        h *= 2.0 ** np.ceil(np.log2(max(span, 1e-12) / (MIN_NODES * NODE_SPACING)))
+    return h, _smooth_ceil(max(int(span / h) + 2, N_INTERPOLATION))
 
 
-def _lagrange(t: FloatArray, p: int) -> FloatArray:
-    """Lagrange basis values at ``t`` (positions in box units, in [0, 1]) for the ``p``
-    nodes at ``(k + 1/2) / p``; shape ``(n, p)``."""
-    nodes = (np.arange(p) + 0.5) / p
-    diff = t[None, :] - nodes[:, None]                               # (p, n)
-    out = np.empty((p, t.shape[0]))
+def _stencils(t: FloatArray, p: int, nodes: int) -> tuple[IntArray, FloatArray]:
+    """The first of the ``p`` consecutive nodes each position uses, and their Lagrange
+    weights; ``t`` in node spacings from node 0 (``0 <= t <= nodes - 1``). The nodes are
+    the ``p`` nearest ones, the position in their middle interval (even ``p``) or within
+    half a spacing of the middle node (odd ``p``), except within ``p / 2`` spacings of
+    either end of the grid, where the stencil stops at the end node."""
+    first = np.clip(np.floor(t - (p - 2) / 2), 0, nodes - p)
+    return first.astype(np.intp), _lagrange(t - first, p)
+
+
+def _lagrange(s: FloatArray, p: int) -> FloatArray:
+    """Lagrange basis values at ``s`` for the ``p`` nodes ``0, 1, …, p - 1``; shape
+    ``(n, p)``."""
+    diff = s[None, :] - np.arange(p, dtype=np.float64)[:, None]       # (p, n)
+    out = np.empty((p, s.shape[0]))
     for k in range(p):
         others = [j for j in range(p) if j != k]
-        scale = 1.0 / float(np.prod(nodes[k] - nodes[others]))
+        scale = 1.0 / float(np.prod([k - j for j in others]))
         acc = np.multiply(diff[others[0]], scale, out=out[k])
         for j in others[1:]:
             acc *= diff[j]
@@ -244,20 +281,18 @@ def _repulsion(y: FloatArray, kernels: Callable[[int, int, float],
     p = N_INTERPOLATION
     lo = y.min(axis=0)
     span = float((y.max(axis=0) - lo).max())
-    side, boxes = _grid(span)
-    nodes_1d = boxes * p
+    spacing, nodes_1d = _grid(span)
     m = 2 * nodes_1d
-    g_im, z_weights = kernels(d, nodes_1d, side / p)
+    g_im, z_weights = kernels(d, nodes_1d, spacing)
 
-    # per dimension: Lagrange weights and the first node of each point's box; one flat
-    # index into the N^d nodes spreads the charges and reads the potentials (the zero
+    # per dimension: the first node of each point's stencil and its Lagrange weights; one
+    # flat index into the N^d nodes spreads the charges and reads the potentials (the zero
     # padding to m per axis is the transforms')
     lks, firsts = [], []
     for k in range(d):
-        u = (y[:, k] - lo[k]) * (1.0 / side)
-        b = np.minimum(u.astype(np.intp), boxes - 1)
-        lks.append(_lagrange(u - b, p))                              # (n, p)
-        firsts.append(b * p)
+        first, lk = _stencils((y[:, k] - lo[k]) * (1.0 / spacing), p, nodes_1d)
+        lks.append(lk)                                               # (n, p)
+        firsts.append(first)
     if d == 1:
         weights = lks[0]
         flat = firsts[0][:, None] + np.arange(p)
@@ -268,7 +303,11 @@ def _repulsion(y: FloatArray, kernels: Callable[[int, int, float],
         flat = (firsts[0] * nodes_1d + firsts[1])[:, None] + offsets
     charges = np.bincount(flat.ravel(), weights=weights.ravel(), minlength=nodes_1d ** d
                           ).astype(np.float32).reshape((nodes_1d,) * d)
-    z = -float(n)                                   # remove K1(y_i, y_i) = 1
+    # remove each point's interaction with itself as the grid sees it: w_i^T K1 w_i over
+    # its stencil's nodes (1 where the interpolation is exact)
+    offs = np.indices((p,) * d).reshape(d, -1).T * spacing                  # (p^d, d)
+    k_st = 1.0 / (1.0 + ((offs[:, None, :] - offs[None, :, :]) ** 2).sum(-1))
+    z = -float(np.einsum("ia,ia->", weights @ k_st, weights))
     rep = np.empty((n, d))
     if d == 1:
         c_hat = sfft.rfft(charges, n=m)

@@ -20,7 +20,7 @@ from threadpoolctl import threadpool_limits
 from algorithms.core.errors import Cancelled, InvalidInputError
 from algorithms.embedding import sne, tsne
 from algorithms.embedding import trustworthiness as package_trustworthiness
-from algorithms.embedding._fft_gradients import FFTRepulsion, _kernels, repulsion_fft
+from algorithms.embedding._fft_gradients import FFTRepulsion, _kernels, _stencils, repulsion_fft
 from algorithms.embedding._quality import _nearest_neighbors
 from algorithms.embedding.tsne import (
     _calibrate,
@@ -112,7 +112,7 @@ def test_exact_gradient_matches_finite_differences(exaggeration: float) -> None:
                                            (2, 10.0, 3e-2)])
 def test_fft_repulsion_matches_all_pairs(d: int, scale: float, tol: float) -> None:
     # two clumps; at scale 10 the points are sparse (a few units apart), the interpolation's
-    # worst case: its error grows with the kernel's variation across a box of side 1
+    # worst case: its error grows with the kernel's variation across a node spacing
     rng = np.random.default_rng(d)
     y = np.r_[rng.normal(size=(300, d)), rng.normal(size=(300, d)) + 4.0] * scale
     diff = y[:, None, :] - y[None, :, :]
@@ -123,6 +123,36 @@ def test_fft_repulsion_matches_all_pairs(d: int, scale: float, tol: float) -> No
     assert z == pytest.approx(w.sum(), rel=tol / 10)
     err = np.linalg.norm(rep - rep_exact) / np.linalg.norm(rep_exact)
     assert err < tol
+
+
+@pytest.mark.parametrize("d, scale", [(1, 10.0), (1, 30.0), (2, 10.0), (2, 30.0)])
+def test_fft_z_removes_each_points_own_term_on_the_grid(d: int, scale: float) -> None:
+    # sparse points: the grid's interpolated self-interaction w_i^T K1 w_i is far from 1,
+    # and Z = sum over pairs is small; subtracting n instead of those terms leaves Z off by
+    # 2e-4 to 2e-2 here (measured), removing them by about 1e-4
+    rng = np.random.default_rng(d)
+    y = np.r_[rng.normal(size=(300, d)), rng.normal(size=(300, d)) + 4.0] * scale
+    d2 = ((y[:, None, :] - y[None, :, :]) ** 2).sum(-1)
+    w = 1.0 / (1.0 + d2)
+    np.fill_diagonal(w, 0.0)
+    assert repulsion_fft(y)[1] == pytest.approx(w.sum(), rel=3e-4)
+
+
+@pytest.mark.parametrize("p", [3, 4, 5])
+def test_fft_stencils_are_the_nearest_nodes_and_reproduce_polynomials(p: int) -> None:
+    # positions in node spacings on a grid of 40 nodes: each stencil is p consecutive nodes
+    # inside the grid, the position in its middle interval (or within half a spacing of the
+    # middle node) unless the grid's end is nearer, and the weights reproduce 1, t, ..., t^(p-1)
+    rng = np.random.default_rng(p)
+    t = np.r_[rng.uniform(0.0, 39.0, 500), 0.0, 39.0, 0.3, 38.7]
+    first, w = _stencils(t, p, 40)
+    assert ((first >= 0) & (first + p <= 40)).all()
+    inner = (t >= p) & (t <= 39 - p)
+    centre = first[inner] + (p - 1) / 2
+    assert (np.abs(t[inner] - centre) <= 0.5 + 1e-12).all()
+    nodes = first[:, None] + np.arange(p)
+    for j in range(p):
+        np.testing.assert_allclose((w * nodes ** j).sum(1), t ** j, rtol=1e-10, atol=1e-9)
 
 
 @pytest.mark.parametrize("d", [1, 2])
