@@ -217,7 +217,7 @@ class _Problem:
         centred = dst - dst.mean(axis=0)
         self.size = math.sqrt(float(np.einsum("ij,ij->", centred, centred)) / len(dst)) or 1.0
         self.tgt_normals: FloatArray | None = None
-        self.tgt_ok: FloatArray | None = None          # 1.0 where the normal is usable
+        self.tgt_ok: FloatArray | None = None   # 1.0 where the normal is usable; None: all
         self.src_normals: FloatArray | None = None
         if metric != "point_to_point":
             if target_normals is None:
@@ -226,8 +226,7 @@ class _Problem:
                 self.tgt_normals = normals
                 self.tgt_ok = (planarity > PLANARITY_MIN).astype(float)
             else:
-                self.tgt_normals = target_normals
-                self.tgt_ok = np.ones(dst.shape[0])
+                self.tgt_normals = target_normals   # every one usable: tgt_ok None
         if metric == "symmetric":
             if source_normals is None:
                 normals, _ = estimate_normals(src, cKDTree(src), normal_neighbors, self.workers)
@@ -418,24 +417,25 @@ class _Problem:
         return affine(x, y, weights=w).transform
 
     def _plane_step(self, transform: FloatArray, m: _Match) -> FloatArray:
-        assert self.tgt_normals is not None and self.tgt_ok is not None
+        assert self.tgt_normals is not None
         # every product by columns ((3, k) rows of the pairs): no (k, 3) temporaries, no
-        # BLAS call on thin matrices but the two small Gram products
+        # BLAS call on thin matrices but the sums and the two small Gram products
         every = m.src.size == self.n
         p = m.moved if every else np.take(m.moved, m.src, axis=0)
         q = np.take(self.dst, m.tgt, axis=0)
-        n = np.take(self.tgt_normals, m.tgt, axis=0).T
-        centre = p.mean(axis=0)
+        k = p.shape[0]
+        ones = self.ones[:k]
+        centre = (ones @ p) / k                  # a product, not mean(axis=0): 20x faster
         # the symmetric objective centres each set at its own centroid (Rusinkiewicz 2019):
         # x -> q̄ + R½(R½(x - p̄) + t), exact in one step for an exact rigid motion
-        q_centre = q.mean(axis=0) if self.metric == "symmetric" else centre
-        pc = np.subtract(p, centre).T
-        radius = math.sqrt(float(np.einsum("ij,ij->", pc, pc)) / max(pc.shape[1], 1))
+        q_centre = (ones @ q) / k if self.metric == "symmetric" else centre
+        ph = np.subtract(p.T, centre[:, None], out=np.empty((3, k)))  # (3, k), rows contiguous
+        radius = math.sqrt(float(np.einsum("ij,ij->", ph, ph)) / max(k, 1))
         radius = radius if radius > 0 else 1.0
-        ph = np.divide(pc, radius, out=np.empty(pc.shape))    # (3, k), rows contiguous
-        qh = np.subtract(q, q_centre).T
-        qh = np.divide(qh, radius, out=np.empty(qh.shape))
-        nr = np.ascontiguousarray(n)
+        ph /= radius
+        qh = np.subtract(q.T, q_centre[:, None], out=np.empty((3, k)))
+        qh /= radius
+        nr = np.take(self.tgt_normals, m.tgt, axis=0).T.copy()
         if self.metric == "symmetric":
             assert self.src_normals is not None
             ns = transform[:3, :3] @ (self.src_normals if every else np.take(
@@ -445,20 +445,24 @@ class _Problem:
             nr += ns
         r = _col_dot(ph - qh, nr)
         arm = ph + qh if self.metric == "symmetric" else ph
-        rows = [arm[1] * nr[2] - arm[2] * nr[1], arm[2] * nr[0] - arm[0] * nr[2],
-                arm[0] * nr[1] - arm[1] * nr[0]]
-        if self.model == "similarity":
-            rows.append(_col_dot(ph, nr))
-        elif self.model == "affine":
-            rows = [nr[i] * ph[j] for i in range(3) for j in range(3)]
-        jac = np.empty((len(rows) + 3, r.size))
-        for i, row in enumerate(rows):
-            jac[i] = row
-        jac[len(rows):] = nr
+        if self.model == "affine":
+            jac = np.empty((12, k))
+            for i in range(3):
+                for j in range(3):
+                    np.multiply(nr[i], ph[j], out=jac[3 * i + j])
+        else:
+            jac = np.empty((7 if self.model == "similarity" else 6, k))
+            for i, (u, v) in enumerate(((1, 2), (2, 0), (0, 1))):   # the rows of arm × n
+                np.multiply(arm[u], nr[v], out=jac[i])
+                jac[i] -= arm[v] * nr[u]
+            if self.model == "similarity":
+                jac[3] = _col_dot(ph, nr)
+        jac[-3:] = nr
         w = self.weights(r * radius)
-        ok = np.take(self.tgt_ok, m.tgt)
-        w = ok if w is None else w * ok
-        jw = jac * w
+        if self.tgt_ok is not None:              # estimated normals, some unusable
+            ok = np.take(self.tgt_ok, m.tgt)
+            w = ok if w is None else w * ok
+        jw = jac if w is None else jac * w
         normal = jw @ jac.T
         rhs = -(jw @ r)
         scale = float(np.abs(normal).max()) if normal.size else 0.0
