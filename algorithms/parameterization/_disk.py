@@ -112,11 +112,11 @@ def check_disk(mesh: Mesh, *, name: str = "mesh") -> IntArray:
                                                 indptr), shape=(n, n)))
     if count > 1:
         raise _fail(f"{count} connected components", name)
-    bnd = half[start[ucount == 1]]               # half-edges with no twin
-    if bnd.shape[0] == 0:
+    once = ucount == 1                           # edges of one half-edge: the boundary
+    if not once.any():
         raise _fail("a closed mesh (no boundary); cut it open first", name)
-    lo, hi = np.divmod(bnd >> 1, n)
-    up = (bnd & 1) == 0                          # runs from the lower vertex to the higher
+    lo, hi = lo[once], hi[once]
+    up = (half[start[once]] & 1) == 0            # runs from the lower vertex to the higher
     bnd_edges = np.stack([np.where(up, lo, hi), np.where(up, hi, lo)], axis=1)
     out_deg = np.bincount(bnd_edges[:, 0], minlength=n)
     if (out_deg > 1).any():
