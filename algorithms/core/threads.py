@@ -18,7 +18,8 @@ the embeddings):
    threads only for large totals made of large blocks (small numpy calls hold the GIL).
    ICP splits its nearest-point search over :func:`usable_cores` threads of its own from
    a few thousand points (``icp.PART_MIN`` a thread), each taking a contiguous part of the
-   source whole (the test that keeps a partner, the query of the rest on one worker):
+   source whole (the test that keeps a partner, the query of the rest on one worker; from
+   ``icp.SPREAD_FROM`` points, several parts per thread, taken in turn):
    SciPy's own ``workers`` start threads on every call and did not pay below tens of
    thousands of points (10,000 points a side: no gain; split by parts, 1.3-1.4x faster);
 3. dense factorisations and solves of large matrices (CPD's nonrigid ``M × M`` solve, the

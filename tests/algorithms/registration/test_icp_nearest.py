@@ -79,17 +79,22 @@ def _queried_fewer(monkeypatch, src, dst, **kw):
 ROT = Rotation.from_rotvec([0.05, 0.1, -0.08]).as_matrix()
 
 
-def _split(monkeypatch, parts: int) -> None:
-    """Make runs of a few hundred points split into ``parts`` threads (1: no split)."""
+def _split(monkeypatch, parts: int, spread: bool = False) -> None:
+    """Make runs of a few hundred points split over ``parts`` threads (1: no split); with
+    ``spread``, into parts of 256 points that the threads take in turn (the split of large
+    runs)."""
     monkeypatch.setattr(icp_mod, "PART_MIN", 200)
     monkeypatch.setattr(icp_mod, "usable_cores", lambda: parts)
+    if spread:
+        monkeypatch.setattr(icp_mod, "SPREAD_FROM", 1000)
+        monkeypatch.setattr(icp_mod, "SPREAD_PART", 256)
 
 
-@pytest.mark.parametrize("parts", [1, 3])
+@pytest.mark.parametrize("parts", [1, 3, "3 spread"])
 @pytest.mark.parametrize("metric", ["point_to_point", "point_to_plane", "symmetric"])
 @pytest.mark.parametrize("max_dist", [None, 0.15])
 def test_answers_equal_a_plain_query(monkeypatch, metric, max_dist, parts):
-    _split(monkeypatch, parts)
+    _split(monkeypatch, int(str(parts).split()[0]), spread="spread" in str(parts))
     rng = np.random.default_rng(3)
     src = _blob(3000, 1)
     dst = _blob(2500, 2) @ ROT.T + [0.03, -0.02, 0.01] + rng.normal(0, 0.002, (2500, 3))
@@ -138,20 +143,23 @@ def test_the_result_does_not_depend_on_the_threads(monkeypatch, kw):
     src = _blob(3000, 7)
     dst = _blob(2800, 8) @ ROT.T + [0.02, 0.0, -0.03] + rng.normal(0, 0.002, (2800, 3))
     results = []
-    for parts in (1, 2, 5):
-        _split(monkeypatch, parts)
+    # threads, spread, then the parts expected: one per thread, or from SPREAD_FROM points
+    # at least PARTS_PER_THREAD per thread and parts of at most about SPREAD_PART points
+    for parts, spread, expected in ((1, False, 1), (2, False, 2), (5, False, 5),
+                                    (2, True, 11), (3, True, 12)):
+        _split(monkeypatch, parts, spread)
         threads = []
         original = icp_mod._Problem.threads
 
         def spy(self, _original=original, _threads=threads):
-            _threads.append(len(self.parts) - 1)
+            _threads.append((self.threads_used, len(self.parts) - 1))
             return _original(self)
 
         monkeypatch.setattr(icp_mod._Problem, "threads", spy)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             res = icp_mod.icp(src, dst, max_iterations=20, tolerance=0.0, **kw)
-        assert threads == [parts]  # the split really happened
+        assert threads == [(parts, expected)]  # the split really happened
         results.append(res)
     for other in results[1:]:
         np.testing.assert_array_equal(other.transform, results[0].transform)
