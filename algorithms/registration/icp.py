@@ -246,8 +246,8 @@ class _Problem:
 
     @contextlib.contextmanager
     def threads(self) -> Iterator[None]:
-        """The threads of the parts beyond the first (the calling thread's) for the
-        duration of the block."""
+        """The threads beyond the calling one that take the parts with it (see nearest), for
+        the duration of the block."""
         if self.threads_used == 1:
             yield
             return
