@@ -90,11 +90,11 @@ def _split(monkeypatch, parts: int, spread: bool = False) -> None:
         monkeypatch.setattr(icp_mod, "SPREAD_PART", 256)
 
 
-@pytest.mark.parametrize("parts", [1, 3, "3 spread"])
+@pytest.mark.parametrize(("parts", "spread"), [(1, False), (3, False), (3, True)])
 @pytest.mark.parametrize("metric", ["point_to_point", "point_to_plane", "symmetric"])
 @pytest.mark.parametrize("max_dist", [None, 0.15])
-def test_answers_equal_a_plain_query(monkeypatch, metric, max_dist, parts):
-    _split(monkeypatch, int(str(parts).split()[0]), spread="spread" in str(parts))
+def test_answers_equal_a_plain_query(monkeypatch, metric, max_dist, parts, spread):
+    _split(monkeypatch, parts, spread)
     rng = np.random.default_rng(3)
     src = _blob(3000, 1)
     dst = _blob(2500, 2) @ ROT.T + [0.03, -0.02, 0.01] + rng.normal(0, 0.002, (2500, 3))
