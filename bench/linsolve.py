@@ -1,6 +1,6 @@
-"""The sparse symmetric positive definite backends, side by side, on the systems morphserve solves.
+"""The sparse positive definite backends (real and Hermitian), side by side, on our systems.
 
-Three systems, each at about 5k, 50k and 200k vertices, all made in code:
+Four systems, each at about 5k, 50k and 200k vertices, all made in code:
 
 * ``laplacian``: the cotangent Laplacian of a jittered wavy grid with its boundary pinned
   (harmonic and biharmonic deformation, Tutte and Laplacian layout: factor once, solve once);
@@ -8,7 +8,10 @@ Three systems, each at about 5k, 50k and 200k vertices, all made in code:
   (``trimesh.creation.torus``, a closed surface) with 8 handle patches pinned (1 % of the
   vertices); ARAP reuses one factorization for every iteration, 3 right-hand sides a solve;
 * ``lscm``: the conformal energy matrix ``Q`` of LSCM (``2n × 2n``: ``u_x`` and ``u_y``
-  coupled through the boundary's area term) on the wavy grid, two boundary vertices pinned.
+  coupled through the boundary's area term) on the wavy grid, two boundary vertices pinned;
+* ``lscm_complex``: the same energy as the ``n × n`` Hermitian ``K`` of the complex unknowns
+  ``u_x + i u_y`` (``Q`` is its real form), what LSCM solves; the backends that factor
+  complex matrices only (not cholespy or qdldl), complex right-hand sides.
 
 Backends: every one that is installed of ``cholmod`` (SuiteSparse CHOLMOD through cvxopt,
 GPL-3.0), ``cholespy`` (CHOLMOD compiled in: GPL-2.0), ``superlu`` (SciPy, BSD-3-Clause) through
@@ -23,7 +26,8 @@ something on a shared machine. The threads each library may use, the machine's l
 average before and after each table, and the relative residual ``‖A x - b‖∞ / ‖b‖∞`` are
 printed too.
 
-    python bench/linsolve.py [--repeats 3] [--sizes 5k,50k,200k] [--systems laplacian,arap,lscm]
+    python bench/linsolve.py [--repeats 3] [--sizes 5k,50k,200k]
+        [--systems laplacian,arap,lscm,lscm_complex]
 
 A benchmark never asserts.
 """
@@ -53,7 +57,10 @@ from _common import print_table, wavy_grid  # noqa: E402
 from algorithms.core.laplacian import cotangent_laplacian  # noqa: E402
 from algorithms.core.linsolve import Factor, available_backends  # noqa: E402
 from algorithms.core.mesh import as_mesh, boundary_loops  # noqa: E402
-from algorithms.parameterization.conformal import conformal_energy_matrix  # noqa: E402
+from algorithms.parameterization.conformal import (  # noqa: E402
+    conformal_energy_hermitian,
+    conformal_energy_matrix,
+)
 
 #: grid side and torus sections for each size (vertices: nx², major × minor)
 SIZES = {"5k": (71, (100, 50)), "50k": (224, (316, 158)), "200k": (448, (632, 316))}
@@ -108,9 +115,12 @@ def system(kind: str, size: str) -> tuple[str, sp.csc_array]:
     if kind == "laplacian":
         return (f"cotangent Laplacian, grid {n:,} vertices, boundary pinned",
                 free_block(cotangent_laplacian(v, f), boundary_loops(f)[0]))
-    q = conformal_energy_matrix(as_mesh(v, f))
     loop = boundary_loops(f)[0]
     pins = loop[[0, len(loop) // 2]]
+    if kind == "lscm_complex":
+        return (f"LSCM matrix K (Hermitian), grid {n:,} vertices (n complex unknowns), "
+                "2 pinned", free_block(conformal_energy_hermitian(as_mesh(v, f)), pins))
+    q = conformal_energy_matrix(as_mesh(v, f))
     return (f"LSCM matrix Q, grid {n:,} vertices (2n unknowns), 2 pinned",
             free_block(q, np.concatenate([pins, n + pins])))
 
@@ -147,6 +157,10 @@ def bench(kind: str, size: str, repeats: int) -> None:
     b1 = rng.standard_normal(a.shape[0])
     b3 = rng.standard_normal((a.shape[0], 3))
     cands = backends()
+    if a.dtype.kind == "c":  # complex right-hand sides; cholespy and qdldl are real only
+        b1 = b1 + 1j * rng.standard_normal(a.shape[0])
+        b3 = b3 + 1j * rng.standard_normal((a.shape[0], 3))
+        cands = [(n, make) for n, make in cands if n not in ("cholespy", "qdldl")]
     times: dict[str, dict[str, list[float]]] = {n: {"f": [], "s1": [], "s3": []}
                                                  for n, _ in cands}
     res: dict[str, float] = {}
@@ -187,7 +201,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--sizes", default="5k,50k,200k")
-    parser.add_argument("--systems", default="laplacian,arap,lscm")
+    parser.add_argument("--systems", default="laplacian,arap,lscm,lscm_complex")
     args = parser.parse_args()
     print(f"threads: {threads()}")
     for size in args.sizes.split(","):

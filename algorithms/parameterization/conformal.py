@@ -27,12 +27,21 @@ from algorithms.core.types import FloatArray, IntArray
 from algorithms.parameterization._disk import Disk, read_disk
 from algorithms.parameterization._results import ParameterizationResult, direct_result
 
-__all__ = ["conformal", "conformal_energy_matrix", "farthest_boundary_pair", "lscm_uv",
+__all__ = ["conformal", "conformal_energy_matrix", "conformal_energy_hermitian",
+           "farthest_boundary_pair", "lscm_uv",
            "check_pins", "check_conformal", "ConformalMethod", "CONFORMAL_METHODS"]
 
 ConformalMethod = Literal["lscm", "spectral"]
 #: The accepted values of ``method``.
 CONFORMAL_METHODS = get_args(ConformalMethod)
+
+
+def _area_term(mesh: Mesh) -> tuple[IntArray, IntArray, FloatArray]:
+    r"""The boundary's area term :math:`A(u) = \tfrac12 \sum_{(i \to j) \in \partial}
+    (x_i y_j - x_j y_i) = 2 x^\mathsf{T} M y`, :math:`M` antisymmetric: the boundary edges'
+    ``i``, ``j`` and :math:`M_{ij} = \tfrac14 = -M_{ji}`."""
+    be = boundary_edges(mesh.faces)
+    return be[:, 0], be[:, 1], np.full(be.shape[0], 0.25)
 
 
 def conformal_energy_matrix(mesh: Mesh) -> sp.csr_array:
@@ -43,17 +52,46 @@ def conformal_energy_matrix(mesh: Mesh) -> sp.csr_array:
     the signed area enclosed by the image of the boundary. Symmetric positive semidefinite;
     :math:`E_C = \sum_t A_t \lVert J_t - S_t \rVert_F^2` (:math:`S_t` the similarity nearest
     the face's Jacobian), zero exactly on similarities. ``igl.lscm`` minimises :math:`2Q`.
+    The real form of :func:`conformal_energy_hermitian`.
     """
     n = mesh.n_vertices
     lap = cotangent_laplacian(mesh.vertices, mesh.faces)
-    be = boundary_edges(mesh.faces)
-    i, j = be[:, 0], be[:, 1]
-    q = np.full(i.shape[0], 0.25)
+    i, j, q = _area_term(mesh)
     rows = np.concatenate([i, n + j, j, n + i])
     cols = np.concatenate([n + j, i, n + i, j])
     vals = np.concatenate([-q, -q, q, q])           # minus the area term
     area = sp.coo_array((vals, (rows, cols)), shape=(2 * n, 2 * n))
     out: sp.csr_array = (0.5 * sp.block_diag([lap, lap], format="csr") + area).tocsr()
+    out.sum_duplicates()
+    return out
+
+
+def conformal_energy_hermitian(mesh: Mesh) -> sp.csr_array:
+    r"""The conformal energy as a Hermitian form in one complex unknown per vertex,
+    :math:`z = u_x + i u_y`: :math:`E_C = z^* K z` with the ``(n, n)`` Hermitian
+
+    .. math::
+
+       K = \tfrac12 L + i M, \qquad
+       Q = \begin{pmatrix} \tfrac12 L & -M \\ M & \tfrac12 L \end{pmatrix},
+
+    :math:`M` the antisymmetric matrix of the area term (:math:`A(u) = 2 u_x^\mathsf{T} M
+    u_y`, :math:`M_{ij} = \tfrac14` on a boundary edge :math:`i \to j`) and :math:`Q`
+    :func:`conformal_energy_matrix`, its real form. For :math:`z = x + iy` and
+    :math:`K = P + iR` (:math:`P` symmetric, :math:`R` antisymmetric),
+    :math:`z^* K z = x^\mathsf{T} P x + y^\mathsf{T} P y - 2 x^\mathsf{T} R y` (the
+    imaginary parts cancel: :math:`x^\mathsf{T} P y = y^\mathsf{T} P x`, :math:`x^\mathsf{T}
+    R x = 0`), which is :math:`[x; y]^\mathsf{T} Q [x; y]`; likewise :math:`Q [x; y] =
+    [b_x; b_y] \iff K z = b_x + i b_y`. The complex system has the sparsity of the mesh;
+    the real one couples each vertex's two unknowns, and factors about twice as slowly
+    (:mod:`algorithms.core.linsolve` has the figures).
+    """
+    lap = cotangent_laplacian(mesh.vertices, mesh.faces)
+    i, j, q = _area_term(mesh)
+    n = mesh.n_vertices
+    area = sp.coo_array((np.concatenate([q, -q]), (np.concatenate([i, j]),
+                                                    np.concatenate([j, i]))), shape=(n, n))
+    out: sp.csr_array = (0.5 * lap + 1j * area).tocsr()
     out.sum_duplicates()
     return out
 
@@ -74,9 +112,10 @@ def farthest_boundary_pair(disk: Disk) -> IntArray:
     return loop[[a, b]]
 
 
-def _conformal_energy(q: sp.csr_array, uv: FloatArray) -> float:
-    x = np.concatenate([uv[:, 0], uv[:, 1]])
-    return max(float(x @ (q @ x)), 0.0)
+def _conformal_energy(k: sp.csr_array, uv: FloatArray) -> float:
+    """:math:`E_C = z^* K z` (:func:`conformal_energy_hermitian`) of the map ``uv``."""
+    z = uv[:, 0] + 1j * uv[:, 1]
+    return max(float((np.conj(z) @ (k @ z)).real), 0.0)
 
 
 def lscm_uv(disk: Disk, pins: Handles | None = None) -> tuple[FloatArray, IntArray, float]:
@@ -84,19 +123,19 @@ def lscm_uv(disk: Disk, pins: Handles | None = None) -> tuple[FloatArray, IntArr
     and ``(d, 0)``, ``d`` their distance in space. Returns ``uv``, the pinned indices and
     the conformal energy."""
     m = disk.mesh
-    n = m.n_vertices
     if pins is None:
         idx = farthest_boundary_pair(disk)
         d = float(np.linalg.norm(m.vertices[idx[1]] - m.vertices[idx[0]]))
         pos = np.array([[0.0, 0.0], [d, 0.0]])
     else:
         idx, pos = pins.indices, pins.positions
-    q = conformal_energy_matrix(m)
-    system = PinnedSystem(q, np.concatenate([idx, n + idx]), name="pins",
-                          check_components=False)
-    x = system.solve(np.concatenate([pos[:, 0], pos[:, 1]]))
-    uv = np.stack([x[:n], x[n:]], axis=1)
-    return uv, idx, _conformal_energy(q, uv)
+    # the complex form: one unknown per vertex, half the factorization time of the real
+    # (2n, 2n) system (see conformal_energy_hermitian)
+    k = conformal_energy_hermitian(m)
+    system = PinnedSystem(k, idx, name="pins", check_components=False)
+    z = system.solve(pos[:, 0] + 1j * pos[:, 1])
+    uv = np.stack([z.real, z.imag], axis=1)
+    return uv, idx, _conformal_energy(k, uv)
 
 
 def check_pins(pins: Any, mesh: Mesh) -> Handles:
@@ -214,7 +253,7 @@ def spectral_uv(disk: Disk) -> tuple[FloatArray, float]:
     t = np.arctan2(d[1], d[0])
     rot = np.array([[np.cos(t), np.sin(t)], [-np.sin(t), np.cos(t)]])
     uv = uv @ rot.T
-    return uv, _conformal_energy(conformal_energy_matrix(m), uv)
+    return uv, _conformal_energy(conformal_energy_hermitian(m), uv)
 
 
 def check_conformal(mesh: Any, method: str = "lscm", pins: Any = None

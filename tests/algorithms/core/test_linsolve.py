@@ -178,6 +178,72 @@ def test_factor_rejects_uninstalled_backend(monkeypatch):
     assert Factor(np.eye(2)).backend == "superlu"
 
 
+def hermitian(seed: int = 0) -> sp.csr_array:
+    """A complex Hermitian positive definite matrix on the grid's pattern: the SPD one plus
+    ``iS + D``, ``S`` antisymmetric and ``D`` the diagonal of its rows' absolute sums (so
+    ``iS + D`` is diagonally dominant: positive semidefinite)."""
+    A = spd(seed=seed)
+    rng = np.random.default_rng(seed)
+    up = sp.triu(A, k=1).tocoo()
+    R = sp.coo_array((rng.uniform(-0.5, 0.5, up.nnz) * np.abs(up.data), (up.row, up.col)),
+                     shape=A.shape)
+    S = (R - R.T).tocsr()
+    return (A + 1j * S + sp.diags_array(abs(S).sum(axis=1))).tocsr()
+
+
+@pytest.mark.parametrize("backend", [p for p in EVERY_BACKEND if p.values[0] != "cholespy"])
+def test_factor_solves_complex_hermitian_systems(backend):
+    H = hermitian()
+    dense = H.toarray()
+    assert np.allclose(dense, dense.conj().T) and np.linalg.eigvalsh(dense)[0] > 0
+    rng = np.random.default_rng(2)
+    b = rng.standard_normal((H.shape[0], 3)) + 1j * rng.standard_normal((H.shape[0], 3))
+    f = Factor(H, backend=backend)
+    assert f.backend == backend and f.dtype == np.complex128
+    x = f.solve(b)
+    assert x.dtype == np.complex128
+    np.testing.assert_allclose(x, np.linalg.solve(dense, b), rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(f.solve(b[:, 0]), x[:, 0], rtol=1e-12, atol=1e-14)
+    # a real right-hand side of a complex matrix: the complex solution
+    np.testing.assert_allclose(f.solve(b.real), np.linalg.solve(dense, b.real), rtol=1e-10,
+                               atol=1e-12)
+
+
+def test_complex_system_equals_its_real_form():
+    # K = P + iR Hermitian <-> Q = [[P, -R], [R, P]]: K z = b_x + i b_y iff Q [x; y] = [b_x; b_y]
+    H = hermitian(seed=3)
+    Q = sp.block_array([[H.real, -H.imag], [H.imag, H.real]]).tocsc()
+    n = H.shape[0]
+    b = np.random.default_rng(4).standard_normal((2 * n, 2))
+    z = Factor(H).solve(b[:n] + 1j * b[n:])
+    x = sla.spsolve(Q, b)
+    np.testing.assert_allclose(np.r_[z.real, z.imag], x, rtol=1e-10, atol=1e-12)
+
+
+def test_auto_and_solves_skip_cholespy_for_complex_matrices():
+    H = hermitian()
+    first = "cholmod" if HAVE_CVXOPT else "superlu"
+    assert Factor(H).backend == first
+    assert Factor(H, solves=10_000).backend == first     # cholespy factors real matrices only
+    with pytest.raises(InvalidInputError, match=r"`backend` to be one that factors complex "
+                       r"Hermitian matrices \((cholmod, )?superlu\), got 'cholespy'\.") as info:
+        Factor(H, backend="cholespy")
+    assert info.value.field == "backend"
+
+
+def test_real_factor_solves_a_complex_right_hand_side():
+    A = spd()
+    rng = np.random.default_rng(5)
+    b = rng.standard_normal((A.shape[0], 2)) + 1j * rng.standard_normal((A.shape[0], 2))
+    for backend in available_backends():
+        f = Factor(A, backend=backend)
+        assert f.dtype == np.float64
+        x = f.solve(b)
+        assert x.dtype == np.complex128 and x.shape == b.shape
+        np.testing.assert_allclose(x, np.linalg.solve(A.toarray(), b), rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(f.solve(b[:, 1]), x[:, 1], rtol=1e-12, atol=1e-14)
+
+
 def test_empty_factor():
     f = Factor(sp.csr_array((0, 0)))
     assert f.solve(np.zeros((0, 2))).shape == (0, 2)
@@ -194,6 +260,23 @@ def test_pinned_path_by_hand():
     np.testing.assert_allclose(ps.solve([0.0, 1.0]), [0.0, 0.5, 1.0])
     # with a source term: x1 = (b1 + 0 + 1) / 2
     np.testing.assert_allclose(ps.solve([0.0, 1.0], rhs=[9.0, 3.0, 9.0]), [0.0, 2.0, 1.0])
+
+
+def test_pinned_complex_system_by_hand():
+    # the path 0 - 1 - 2 with its ends pinned to 0 and 1 + 2i: the middle lands half-way;
+    # with a Hermitian coupling i/4 on the edge 0 -> 1, row 1 reads
+    # (-1 - i/4) z0 + 2 x1 - z2 = 0
+    L = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    ps = PinnedSystem(L, [0, 2])
+    np.testing.assert_allclose(ps.solve([0.0, 1.0 + 2.0j]), [0.0, 0.5 + 1.0j, 1.0 + 2.0j])
+    H = L + 1j * sp.csr_array([[0.0, 0.25, 0], [-0.25, 0, 0], [0, 0, 0]])
+    hs = PinnedSystem(H, [0, 2])
+    z0, z2 = 2.0 - 1.0j, 1.0 + 2.0j
+    got = hs.solve([z0, z2])
+    assert got.dtype == np.complex128 and got[0] == z0 and got[2] == z2
+    np.testing.assert_allclose(got[1], ((1 + 0.25j) * z0 + z2) / 2, rtol=1e-14)
+    np.testing.assert_allclose(hs.solve([[z0], [z2]], rhs=[[0.0], [4.0j], [0.0]])[1, 0],
+                               ((1 + 0.25j) * z0 + z2 + 4.0j) / 2, rtol=1e-14)
 
 
 @pytest.mark.parametrize("backend", EVERY_BACKEND)

@@ -6,12 +6,17 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
 
 from algorithms.core.errors import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import signed_areas
 from algorithms.parameterization import conformal, harmonic
 from algorithms.parameterization._disk import read_disk
-from algorithms.parameterization.conformal import conformal_energy_matrix
+from algorithms.parameterization.conformal import (
+    conformal_energy_hermitian,
+    conformal_energy_matrix,
+)
 from tests.algorithms.parameterization.param_meshes import bumpy, grid
 
 
@@ -55,6 +60,29 @@ def test_energy_matrix_is_igl_lscm_over_two_and_vanishes_on_similarities() -> No
     qp = conformal_energy_matrix(read_disk((vp, fp)).mesh)
     x = np.r_[0.3 * vp[:, 0] - 2 * vp[:, 1] + 1, 2 * vp[:, 0] + 0.3 * vp[:, 1] - 4]
     assert abs(x @ (qp @ x)) < 1e-12 * (x @ x)
+
+
+def test_hermitian_energy_is_the_complex_form_of_q_and_lscm_solves_it() -> None:
+    # K = P + iR <-> Q = [[P, -R], [R, P]], entry for entry; and LSCM through K's n complex
+    # unknowns equals the pinned solve of the real (2n, 2n) system Q
+    v, f = bumpy()
+    mesh = read_disk((v, f)).mesh
+    n = mesh.n_vertices
+    k = conformal_energy_hermitian(mesh)
+    q = conformal_energy_matrix(mesh)
+    assert k.shape == (n, n) and abs(k - k.conj().T).max() == 0
+    assert abs(sp.block_array([[k.real, -k.imag], [k.imag, k.real]]) - q).max() == 0
+    res = conformal((v, f))
+    pins = np.r_[res.pinned, n + res.pinned]
+    free = np.setdiff1d(np.arange(2 * n), pins)
+    x = np.zeros(2 * n)
+    x[pins] = np.r_[res.uv[res.pinned, 0], res.uv[res.pinned, 1]]
+    qc = q.tocsc()
+    x[free] = sla.spsolve(qc[free][:, free], -(qc[free][:, pins] @ x[pins]))
+    np.testing.assert_allclose(res.uv, np.c_[x[:n], x[n:]], atol=1e-10)
+    z = res.uv[:, 0] + 1j * res.uv[:, 1]
+    assert res.energy == pytest.approx(float(x @ (q @ x)), rel=1e-9, abs=1e-15)
+    assert float((z.conj() @ (k @ z)).imag) == pytest.approx(0.0, abs=1e-12)
 
 
 @pytest.mark.parametrize("seed", range(4))
