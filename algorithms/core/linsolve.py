@@ -371,13 +371,14 @@ class Factor:
             raise InvalidInputError(
                 f"Expected `b` to have shape ({self.n},) or ({self.n}, k), got "
                 f"{tuple(arr.shape)}.", field="b")
-        if arr.dtype.kind == "c" and self.dtype.kind != "c":  # real A: the parts apart
+        complex_b = arr.dtype.kind == "c"
+        if self._impl is None or arr.size == 0:  # no backend: n == 0
+            return np.zeros(arr.shape, dtype=np.complex128 if complex_b else self.dtype)
+        if complex_b and self.dtype.kind != "c":  # real A: the parts apart
             parts = self.solve(np.stack([arr.real, arr.imag], axis=-1).reshape(
                 self.n, -1)).reshape(arr.shape + (2,))
             return cast(FloatArray, parts[..., 0] + 1j * parts[..., 1])
         arr = arr.astype(self.dtype, copy=False)
-        if self._impl is None or arr.size == 0:  # no backend: n == 0
-            return np.zeros(arr.shape, dtype=self.dtype)
         if arr.ndim == 2 and arr.shape[1] > 1:
             # a zero column has the zero solution: a handle region moved in a plane leaves
             # one coordinate's displacement zero, and CHOLMOD solves column by column

@@ -247,6 +247,9 @@ def test_real_factor_solves_a_complex_right_hand_side():
 def test_empty_factor():
     f = Factor(sp.csr_array((0, 0)))
     assert f.solve(np.zeros((0, 2))).shape == (0, 2)
+    z = f.solve(np.zeros((0, 2), dtype=complex))
+    assert z.shape == (0, 2) and z.dtype == np.complex128
+    assert Factor(sp.csr_array((0, 0), dtype=complex)).solve(np.zeros(0)).dtype == np.complex128
 
 
 # --- PinnedSystem -------------------------------------------------------------------------
