@@ -83,9 +83,9 @@ is the real form of the Hermitian :math:`K = P + iR` in :math:`z = u + iv`:
 :math:`x^\mathsf{T} Q x = z^* K z` and :math:`Q x = b \iff K z = b_u + i b_v`. LSCM's
 conformal energy is of this form (``conformal_energy_hermitian``). Its ``n × n`` complex
 system has the sparsity of the mesh, where the ``2n × 2n`` real one couples every vertex's
-two unknowns, and it factors 1.9-2.5× faster with SuperLU and 1.7-1.8× with CHOLMOD, at
+two unknowns, and it factors 1.9-2.5× faster with SuperLU and 1.5-1.8× with CHOLMOD, at
 the same residuals or smaller (``bench/linsolve.py``, systems ``lscm`` and
-``lscm_complex``, the grid of the table; factor in seconds)::
+``lscm_complex``, the grid of the table; two runs, the first's factor times in seconds)::
 
     vertices   superlu Q   superlu K   cholmod Q   cholmod K
     5k             0.027       0.011       0.012       0.007

@@ -83,7 +83,7 @@ def conformal_energy_hermitian(mesh: Mesh) -> sp.csr_array:
     imaginary parts cancel: :math:`x^\mathsf{T} P y = y^\mathsf{T} P x`, :math:`x^\mathsf{T}
     R x = 0`), which is :math:`[x; y]^\mathsf{T} Q [x; y]`; likewise :math:`Q [x; y] =
     [b_x; b_y] \iff K z = b_x + i b_y`. The complex system has the sparsity of the mesh;
-    the real one couples each vertex's two unknowns, and factors about twice as slowly
+    the real one couples each vertex's two unknowns, and factors 1.5-2.5 times as slowly
     (:mod:`algorithms.core.linsolve` has the figures).
     """
     lap = cotangent_laplacian(mesh.vertices, mesh.faces)
