@@ -36,14 +36,6 @@ ConformalMethod = Literal["lscm", "spectral"]
 CONFORMAL_METHODS = get_args(ConformalMethod)
 
 
-def _area_term(mesh: Mesh) -> tuple[IntArray, IntArray, FloatArray]:
-    r"""The boundary's area term :math:`A(u) = \tfrac12 \sum_{(i \to j) \in \partial}
-    (x_i y_j - x_j y_i) = 2 x^\mathsf{T} M y`, :math:`M` antisymmetric: the boundary edges'
-    ``i``, ``j`` and :math:`M_{ij} = \tfrac14 = -M_{ji}`."""
-    be = boundary_edges(mesh.faces)
-    return be[:, 0], be[:, 1], np.full(be.shape[0], 0.25)
-
-
 def conformal_energy_matrix(mesh: Mesh) -> sp.csr_array:
     r"""The ``(2n, 2n)`` matrix :math:`Q` of the conformal energy in the unknowns
     :math:`(u_x, u_y)` stacked: :math:`E_C = \tfrac12(u_x^\mathsf{T} L u_x + u_y^\mathsf{T}
@@ -52,17 +44,14 @@ def conformal_energy_matrix(mesh: Mesh) -> sp.csr_array:
     the signed area enclosed by the image of the boundary. Symmetric positive semidefinite;
     :math:`E_C = \sum_t A_t \lVert J_t - S_t \rVert_F^2` (:math:`S_t` the similarity nearest
     the face's Jacobian), zero exactly on similarities. ``igl.lscm`` minimises :math:`2Q`.
-    The real form of :func:`conformal_energy_hermitian`.
+    Built as the real form ``[[Re K, -Im K], [Im K, Re K]]`` of
+    :func:`conformal_energy_hermitian`.
     """
-    n = mesh.n_vertices
-    lap = cotangent_laplacian(mesh.vertices, mesh.faces)
-    i, j, q = _area_term(mesh)
-    rows = np.concatenate([i, n + j, j, n + i])
-    cols = np.concatenate([n + j, i, n + i, j])
-    vals = np.concatenate([-q, -q, q, q])           # minus the area term
-    area = sp.coo_array((vals, (rows, cols)), shape=(2 * n, 2 * n))
-    out: sp.csr_array = (0.5 * sp.block_diag([lap, lap], format="csr") + area).tocsr()
-    out.sum_duplicates()
+    k = conformal_energy_hermitian(mesh)
+    re = sp.csr_array(k.real)
+    im = sp.csr_array(k.imag)
+    im.eliminate_zeros()          # only the boundary edges carry an area term
+    out: sp.csr_array = sp.block_array([[re, -im], [im, re]], format="csr")
     return out
 
 
@@ -75,9 +64,9 @@ def conformal_energy_hermitian(mesh: Mesh) -> sp.csr_array:
        K = \tfrac12 L + i M, \qquad
        Q = \begin{pmatrix} \tfrac12 L & -M \\ M & \tfrac12 L \end{pmatrix},
 
-    :math:`M` the antisymmetric matrix of the area term (:math:`A(u) = 2 u_x^\mathsf{T} M
-    u_y`, :math:`M_{ij} = \tfrac14` on a boundary edge :math:`i \to j`) and :math:`Q`
-    :func:`conformal_energy_matrix`, its real form. For :math:`z = x + iy` and
+    :math:`M` the antisymmetric matrix of the area term :math:`A(u) = 2 u_x^\mathsf{T} M
+    u_y` (:math:`M_{ij} = \tfrac14 = -M_{ji}` on a boundary edge :math:`i \to j`) and
+    :math:`Q` :func:`conformal_energy_matrix`, its real form. For :math:`z = x + iy` and
     :math:`K = P + iR` (:math:`P` symmetric, :math:`R` antisymmetric),
     :math:`z^* K z = x^\mathsf{T} P x + y^\mathsf{T} P y - 2 x^\mathsf{T} R y` (the
     imaginary parts cancel: :math:`x^\mathsf{T} P y = y^\mathsf{T} P x`, :math:`x^\mathsf{T}
@@ -87,7 +76,9 @@ def conformal_energy_hermitian(mesh: Mesh) -> sp.csr_array:
     (:mod:`algorithms.core.linsolve` has the figures).
     """
     lap = cotangent_laplacian(mesh.vertices, mesh.faces)
-    i, j, q = _area_term(mesh)
+    be = boundary_edges(mesh.faces)
+    i, j = be[:, 0], be[:, 1]
+    q = np.full(i.shape[0], 0.25)
     n = mesh.n_vertices
     area = sp.coo_array((np.concatenate([q, -q]), (np.concatenate([i, j]),
                                                     np.concatenate([j, i]))), shape=(n, n))

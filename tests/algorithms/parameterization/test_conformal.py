@@ -63,8 +63,10 @@ def test_energy_matrix_is_igl_lscm_over_two_and_vanishes_on_similarities() -> No
 
 
 def test_hermitian_energy_is_the_complex_form_of_q_and_lscm_solves_it() -> None:
-    # K = P + iR <-> Q = [[P, -R], [R, P]], entry for entry; and LSCM through K's n complex
-    # unknowns equals the pinned solve of the real (2n, 2n) system Q
+    # K = P + iR <-> Q = [[P, -R], [R, P]] (Q is built from K; 2Q is igl.lscm's matrix,
+    # tested above), Im K is the area term: 2 x^T (Im K) y is the area enclosed by the
+    # boundary's image, the sum of the faces' signed areas, for any map; and LSCM through
+    # K's n complex unknowns equals the pinned solve of the real (2n, 2n) system Q
     v, f = bumpy()
     mesh = read_disk((v, f)).mesh
     n = mesh.n_vertices
@@ -72,6 +74,9 @@ def test_hermitian_energy_is_the_complex_form_of_q_and_lscm_solves_it() -> None:
     q = conformal_energy_matrix(mesh)
     assert k.shape == (n, n) and abs(k - k.conj().T).max() == 0
     assert abs(sp.block_array([[k.real, -k.imag], [k.imag, k.real]]) - q).max() == 0
+    uv = np.random.default_rng(0).standard_normal((n, 2))
+    enclosed = 2 * uv[:, 0] @ (k.imag @ uv[:, 1])
+    assert enclosed == pytest.approx(float(signed_areas(uv, f).sum()), rel=1e-12)
     res = conformal((v, f))
     pins = np.r_[res.pinned, n + res.pinned]
     free = np.setdiff1d(np.arange(2 * n), pins)
