@@ -160,6 +160,12 @@ def available_backends() -> tuple[str, ...]:
     return tuple(b for b in BACKENDS if _importable(_MODULES[b]))
 
 
+def _real_or_complex(*dtypes: np.dtype[Any]) -> np.dtype[Any]:
+    """The dtype the solves work in: ``complex128`` when any of ``dtypes`` is complex,
+    ``float64`` otherwise."""
+    return np.dtype(np.complex128 if any(d.kind == "c" for d in dtypes) else np.float64)
+
+
 class _NotPositiveDefinite(Exception):
     pass
 
@@ -295,8 +301,8 @@ class Factor:
             raise InvalidInputError(
                 f"Expected `{name}` to be a square (n, n) matrix, got shape {tuple(a.shape)}.",
                 field=name)
-        complex_ = a.dtype.kind == "c"
-        self.dtype = np.dtype(np.complex128 if complex_ else np.float64)
+        self.dtype = _real_or_complex(a.dtype)
+        complex_ = self.dtype.kind == "c"
         a = a.astype(self.dtype, copy=False)
         self.shape: tuple[int, int] = (int(a.shape[0]), int(a.shape[1]))
         installed = available_backends()
@@ -371,10 +377,9 @@ class Factor:
             raise InvalidInputError(
                 f"Expected `b` to have shape ({self.n},) or ({self.n}, k), got "
                 f"{tuple(arr.shape)}.", field="b")
-        complex_b = arr.dtype.kind == "c"
         if self._impl is None or arr.size == 0:  # no backend: n == 0
-            return np.zeros(arr.shape, dtype=np.complex128 if complex_b else self.dtype)
-        if complex_b and self.dtype.kind != "c":  # real A: the parts apart
+            return np.zeros(arr.shape, dtype=_real_or_complex(arr.dtype, self.dtype))
+        if arr.dtype.kind == "c" and self.dtype.kind != "c":  # real A: the parts apart
             parts = self.solve(np.stack([arr.real, arr.imag], axis=-1).reshape(
                 self.n, -1)).reshape(arr.shape + (2,))
             return cast(FloatArray, parts[..., 0] + 1j * parts[..., 1])
@@ -454,7 +459,7 @@ class PinnedSystem:
     def __init__(self, L: Any, pinned: Any, *, name: str = "handles", backend: str = "auto",
                  solves: int = 1, check_components: bool = True) -> None:
         lap = sp.csr_array(L)
-        lap = lap.astype(np.complex128 if lap.dtype.kind == "c" else np.float64, copy=False)
+        lap = lap.astype(_real_or_complex(lap.dtype), copy=False)
         if lap.ndim != 2 or lap.shape[0] != lap.shape[1]:
             raise InvalidInputError(
                 f"Expected `L` to be a square (n, n) matrix, got shape {tuple(lap.shape)}.",
@@ -509,8 +514,7 @@ class PinnedSystem:
         """
         c = np.asarray(pinned_values)
         r = None if rhs is None else np.asarray(rhs)
-        kinds = {c.dtype.kind, self.L_ff.dtype.kind} | (set() if r is None else {r.dtype.kind})
-        dtype = np.complex128 if "c" in kinds else np.float64
+        dtype = _real_or_complex(c.dtype, self.L_ff.dtype, *([] if r is None else [r.dtype]))
         c = c.astype(dtype, copy=False)
         p = self.pinned.shape[0]
         if c.ndim not in (1, 2) or c.shape[0] != p:
