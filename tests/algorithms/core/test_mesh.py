@@ -374,6 +374,18 @@ def test_one_triangle_by_hand():
     np.testing.assert_allclose(signed_areas(v[:, :2], f[:, ::-1]), [-1.0])
 
 
+def test_face_areas_of_a_planar_mesh_are_its_signed_areas_up_to_sign():
+    v, f = grid(6, 5, jitter=0.1, seed=4)
+    flipped = f.copy()
+    flipped[::2] = flipped[::2, ::-1]
+    expected = np.abs(signed_areas(v, flipped))
+    np.testing.assert_allclose(face_areas(v, flipped), expected, rtol=1e-14)
+    # the same mesh in space, tilted by a rotation: the same areas
+    rot = np.linalg.qr(np.random.default_rng(4).standard_normal((3, 3)))[0]
+    v3 = np.c_[v, np.zeros(len(v))] @ rot.T
+    np.testing.assert_allclose(face_areas(v3, flipped), expected, rtol=1e-12)
+
+
 def test_planar_normals_point_up_or_down():
     v, f = grid(3, 3)
     np.testing.assert_allclose(face_normals(v, f), np.tile([0, 0, 1.0], (len(f), 1)))
