@@ -143,16 +143,19 @@ def read_disk(mesh: Any, *, name: str = "mesh") -> Disk:
 
 
 def pinned_map(disk: Disk, values: FloatArray,
-               weighting: Literal["uniform", "cotangent", "tangent"]) -> tuple[FloatArray, float]:
+               weighting: Literal["uniform", "cotangent", "tangent"],
+               laplacian: sp.csr_array | None = None) -> tuple[FloatArray, float]:
     r"""The spring layout of a checked disk with its boundary loop pinned to ``values``
     (``(b, 2)``, in the loop's order), and its energy :math:`u^\mathsf{T} L u`.
 
     What :func:`algorithms.layout.laplacian` computes with these pins, without checking
     the mesh and the pins again (:func:`read_disk` did) or counting flips (the caller's
-    quality figures do).
+    quality figures do). ``laplacian``: the mesh's Laplacian of that ``weighting``, when
+    the caller has it already.
     """
     m = disk.mesh
-    lap = mesh_laplacian(m.vertices, m.faces, kind=weighting)
+    lap = mesh_laplacian(m.vertices, m.faces, kind=weighting) if laplacian is None \
+        else laplacian
     # one connected component (check_disk) and its boundary pinned: L_ff is non-singular
     uv = PinnedSystem(lap, disk.loop, name="mesh", check_components=False).solve(values)
     return uv, max(float(np.einsum("ij,ij->", uv, lap @ uv)), 0.0)

@@ -80,10 +80,13 @@ class LocalGlobalSolver:
     solves : int
         The most global steps :meth:`solve` will run (``max_iterations``): the backend is
         chosen for that many solves (:class:`~algorithms.core.linsolve.Factor`).
+    laplacian : (n, n) csr_array, optional
+        The mesh's :func:`~algorithms.core.laplacian.cotangent_laplacian`, when the caller
+        has it already (made here otherwise).
     """
 
     def __init__(self, mesh: Mesh, pinned: IntArray, *, similarity: bool,
-                 solves: int) -> None:
+                 solves: int, laplacian: sp.csr_array | None = None) -> None:
         v, f = mesh.vertices, mesh.faces
         n, m = mesh.n_vertices, mesh.n_faces
         self.mesh, self.similarity = mesh, similarity
@@ -93,16 +96,14 @@ class LocalGlobalSolver:
         x = self.frames
         e = x[:, [1, 2, 0]] - x[:, [2, 0, 1]]                   # e_k = x_{k+1} - x_{k+2}
         ce = cotangent_entries(v, f)[:, :, None] * e             # (m, 3, 2)
-        a, b = f[:, [1, 2, 0]], f[:, [2, 0, 1]]                  # (m, 3) ends of e_k
-        col = 2 * np.arange(m)[:, None]                          # column of T_t[:, 0]
-        rows = np.concatenate([a.ravel(), a.ravel(), b.ravel(), b.ravel()])
-        cols = np.concatenate([np.broadcast_to(col, (m, 3)).ravel(),
-                               np.broadcast_to(col + 1, (m, 3)).ravel()] * 2)
-        vals = np.concatenate([ce[..., 0].ravel(), ce[..., 1].ravel(),
-                               -ce[..., 0].ravel(), -ce[..., 1].ravel()])
-        self._C = sp.coo_array((vals, (rows, cols)), shape=(n, 2 * m)).tocsr()
-        self._C.sum_duplicates()
-        lap = cotangent_laplacian(v, f)
+        # Edge k runs from f_{k+1} to f_{k+2}: it adds c_k to row f_{k+1} and -c_k to row
+        # f_{k+2} of face t's two columns 2t, 2t+1. So the column holds each corner once,
+        # c_{j-1} - c_{j+1} in row f_j: built by columns (3 entries each), then as rows.
+        vals = ce[:, [2, 0, 1]] - ce[:, [1, 2, 0]]               # (m, 3, 2): corner j
+        self._C = sp.csc_array(
+            (vals.transpose(0, 2, 1).ravel(), np.repeat(f, 2, axis=0).ravel(),
+             np.arange(0, 6 * m + 1, 3)), shape=(n, 2 * m)).tocsr()
+        lap = cotangent_laplacian(v, f) if laplacian is None else laplacian
         self.system = PinnedSystem(lap, self.pinned, name="mesh", solves=solves,
                                    check_components=False)
 
@@ -142,14 +143,15 @@ class LocalGlobalSolver:
                                  **q.fields())
 
 
-def initial_map(disk: Disk, init: str) -> FloatArray:
+def initial_map(disk: Disk, init: str, laplacian: sp.csr_array | None = None) -> FloatArray:
     """LSCM (farthest boundary pair pinned) or the harmonic map onto the circle, scaled so
-    its area equals the surface's."""
+    its area equals the surface's. ``laplacian``: the mesh's cotangent Laplacian, if made
+    already (both maps use it)."""
     m = disk.mesh
     if init == "lscm":
-        uv = lscm_uv(disk)[0]
+        uv = lscm_uv(disk, laplacian=laplacian)[0]
     else:
-        uv = pinned_map(disk, convex_boundary(disk, "circle"), "cotangent")[0]
+        uv = pinned_map(disk, convex_boundary(disk, "circle"), "cotangent", laplacian)[0]
     plane = abs(float(signed_areas(uv, m.faces).sum()))
     scale: float = np.sqrt(face_areas(m.vertices, m.faces).sum() / plane)
     return uv * scale

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal, get_args
 
+from algorithms.core.laplacian import cotangent_laplacian
 from algorithms.core.params import Ge, MeshLike, validate_params
 from algorithms.core.progress import Progress
 from algorithms.parameterization._disk import read_disk
@@ -125,12 +126,14 @@ def _run(mesh: Any, init: str, max_iterations: int, tolerance: float,
          progress: Progress | None, *, similarity: bool) -> LocalGlobalResult:
     """ARAP or ASAP on checked options."""
     disk = read_disk(mesh)
-    uv0 = initial_map(disk, init)
+    # the cotangent Laplacian of both the initial map and the global step, made once
+    lap = cotangent_laplacian(disk.mesh.vertices, disk.mesh.faces)
+    uv0 = initial_map(disk, init, lap)
     if similarity:
         pinned = farthest_boundary_pair(disk)
     else:
         pinned = disk.loop[:1]
     solver = LocalGlobalSolver(disk.mesh, pinned, similarity=similarity,
-                               solves=max_iterations)
+                               solves=max_iterations, laplacian=lap)
     return solver.solve(uv0, max_iterations=max_iterations, tolerance=tolerance,
                         progress=progress, name="ASAP" if similarity else "ARAP")

@@ -55,7 +55,8 @@ def conformal_energy_matrix(mesh: Mesh) -> sp.csr_array:
     return out
 
 
-def conformal_energy_hermitian(mesh: Mesh) -> sp.csr_array:
+def conformal_energy_hermitian(mesh: Mesh, laplacian: sp.csr_array | None = None
+                               ) -> sp.csr_array:
     r"""The conformal energy as a Hermitian form in one complex unknown per vertex,
     :math:`z = u_x + i u_y`: :math:`E_C = z^* K z` with the ``(n, n)`` Hermitian
 
@@ -74,8 +75,11 @@ def conformal_energy_hermitian(mesh: Mesh) -> sp.csr_array:
     [b_x; b_y] \iff K z = b_x + i b_y`. The complex system has the sparsity of the mesh;
     the real one couples each vertex's two unknowns, and factors 1.5-2.5 times as slowly
     (:mod:`algorithms.core.linsolve` has the figures).
+
+    ``laplacian``: the mesh's :func:`~algorithms.core.laplacian.cotangent_laplacian`, when
+    the caller has it already.
     """
-    lap = cotangent_laplacian(mesh.vertices, mesh.faces)
+    lap = cotangent_laplacian(mesh.vertices, mesh.faces) if laplacian is None else laplacian
     be = boundary_edges(mesh.faces)
     i, j = be[:, 0], be[:, 1]
     q = np.full(i.shape[0], 0.25)
@@ -109,10 +113,11 @@ def _conformal_energy(k: sp.csr_array, uv: FloatArray) -> float:
     return max(float((np.conj(z) @ (k @ z)).real), 0.0)
 
 
-def lscm_uv(disk: Disk, pins: Handles | None = None) -> tuple[FloatArray, IntArray, float]:
+def lscm_uv(disk: Disk, pins: Handles | None = None, laplacian: sp.csr_array | None = None
+            ) -> tuple[FloatArray, IntArray, float]:
     """LSCM on a checked disk; ``pins`` default: the farthest boundary pair at ``(0, 0)``
     and ``(d, 0)``, ``d`` their distance in space. Returns ``uv``, the pinned indices and
-    the conformal energy."""
+    the conformal energy. ``laplacian``: the mesh's cotangent Laplacian, if made already."""
     m = disk.mesh
     if pins is None:
         idx = farthest_boundary_pair(disk)
@@ -122,7 +127,7 @@ def lscm_uv(disk: Disk, pins: Handles | None = None) -> tuple[FloatArray, IntArr
         idx, pos = pins.indices, pins.positions
     # the complex form: one unknown per vertex, factored 1.5-2.5x faster than the real
     # (2n, 2n) system (see conformal_energy_hermitian)
-    k = conformal_energy_hermitian(m)
+    k = conformal_energy_hermitian(m, laplacian)
     system = PinnedSystem(k, idx, name="pins", check_components=False)
     z = system.solve(pos[:, 0] + 1j * pos[:, 1])
     uv = np.stack([z.real, z.imag], axis=1)

@@ -53,3 +53,47 @@ def test_arap_matches_or_beats_libigl_after_the_same_iterations(init: str) -> No
     assert ours.energy[-1] <= e_peer * (1 + 1e-9)
     # the same iterations: the same map
     np.testing.assert_allclose(ours.uv, peer, atol=1e-6 * np.ptp(peer))
+
+
+def test_global_step_matrix_by_the_definition() -> None:
+    # the right-hand side of the global step is sum_t sum_k c_k (T_t e_k), added at the
+    # edge's first end f_{k+1} and taken from its second f_{k+2}; built here edge by edge
+    # in a dense matrix, independently of the solver's assembly by columns
+    from algorithms.core.laplacian import cotangent_entries
+
+    v, f = bumpy(seed=1)
+    disk = read_disk((v, f))
+    solver = LocalGlobalSolver(disk.mesh, disk.loop[:1], similarity=False, solves=1)
+    fr = face_frames(v, f)
+    cot = cotangent_entries(v, f)
+    dense = np.zeros((len(v), 2 * len(f)))
+    for t, face in enumerate(f):
+        for k in range(3):
+            e = fr[t, (k + 1) % 3] - fr[t, (k + 2) % 3]
+            for c in range(2):
+                dense[face[(k + 1) % 3], 2 * t + c] += cot[t, k] * e[c]
+                dense[face[(k + 2) % 3], 2 * t + c] -= cot[t, k] * e[c]
+    np.testing.assert_allclose(solver._C.toarray(), dense, rtol=0, atol=1e-14 * np.abs(dense).max())
+    assert solver._C.nnz == 6 * len(f)      # each column: the face's three corners
+
+
+@pytest.mark.parametrize("init", ["lscm", "harmonic"])
+def test_arap_makes_the_cotangent_laplacian_once(init: str, monkeypatch) -> None:
+    # the initial map and the global step share one (the same matrix: made once)
+    import importlib
+
+    from algorithms.parameterization import arap
+
+    original = importlib.import_module("algorithms.core.laplacian").cotangent_laplacian
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    for name in ("arap", "_local_global", "conformal"):
+        module = importlib.import_module(f"algorithms.parameterization.{name}")
+        monkeypatch.setattr(module, "cotangent_laplacian", counted)
+    v, f = bumpy(seed=3)
+    arap((v, f), init=init, max_iterations=2)
+    assert len(calls) == 1
