@@ -29,41 +29,41 @@ systems this package solves, each at about 5k, 50k and 200k vertices: the pinned
 Laplacian of a jittered wavy grid (harmonic and biharmonic deformation, Tutte and
 Laplacian layout), the ARAP free block of a torus with 1 % of its vertices pinned, and the
 LSCM matrix ``Q`` (``2n`` unknowns) of the grid with two pins. Medians of 3 interleaved
-runs on a quiet 2-core machine (load average 0.1-0.9; CHOLMOD on cvxopt's OpenBLAS with 1
-thread, cholespy with its own pool of 2, SuperLU and qdldl one thread); on a shared machine
-only the ratios within a row mean much. Factor in seconds, the solve of 3 right-hand sides
-in milliseconds::
+runs on a quiet 2-core machine (load average 0.2-1.0; CHOLMOD on cvxopt's OpenBLAS with 1
+thread, cholespy with its own pool of 2, SuperLU (panels of :data:`SUPERLU_PANEL` columns)
+and qdldl one thread); on a shared machine only the ratios within a row mean much. Factor
+in seconds, the solve of 3 right-hand sides in milliseconds::
 
                                       factor (s)                   solve, 3 rhs (ms)
     system           unknowns  cholmod superlu cholespy qdldl   cholmod superlu cholespy
-    Laplacian 5k        4,761    0.004   0.007   0.014  0.005       0.8     0.7     0.4
-    ARAP 5k             4,954    0.006   0.014   0.017  0.010       1.0     0.9     0.5
-    LSCM 5k            10,078    0.010   0.028   0.047  0.019       2.1     2.2     1.0
-    Laplacian 50k      49,284    0.048   0.193   0.279  0.110      20.6    12.3     7.7
-    ARAP 50k           49,482    0.101   0.305   0.336  0.378      22.8    15.7     8.0
-    LSCM 50k          100,348    0.156   0.514   0.818  0.500      53.1    27.4    17.9
-    Laplacian 200k    198,916    0.313   1.280   1.623  1.053      95.3    60.9    36.0
-    ARAP 200k         197,942    0.626   2.300   2.515  6.542     143.1    85.0    39.7
-    LSCM 200k         401,404    0.974   4.061   8.203  7.898     228.9   161.1    92.1
+    Laplacian 5k        4,761    0.004   0.007   0.015  0.005       1.0     0.8     0.4
+    ARAP 5k             4,954    0.006   0.012   0.018  0.010       1.2     1.0     0.5
+    LSCM 5k            10,078    0.011   0.021   0.046  0.019       2.5     2.1     1.2
+    Laplacian 50k      49,284    0.059   0.164   0.290  0.120      16.7    13.1     7.5
+    ARAP 50k           49,482    0.092   0.300   0.351  0.443      20.7    17.2     7.7
+    LSCM 50k          100,348    0.165   0.489   0.901  0.562      45.4    31.3    18.6
+    Laplacian 200k    198,916    0.348   1.242   1.734  1.099      96.2    69.3    36.4
+    ARAP 200k         197,942    0.539   1.971   2.184  3.581     109.5    82.3    38.8
+    LSCM 200k         401,404    0.856   3.408   5.601  4.389     203.8   143.9    89.0
 
 (cvxopt 1.3.3, scipy 1.17.1, cholespy 2.2.0, qdldl 0.1.9; residuals ``‖A x - b‖∞ / ‖b‖∞``
 at most 1e-13, 1e-7 for the ill-conditioned LSCM matrices, alike for every backend.)
 
-* SuperLU factors faster than cholespy in all 9 systems (1.1-2.0×), so it comes before it
+* SuperLU factors faster than cholespy in all 9 systems (1.1-2.2×), so it comes before it
   for one-shot solves (factor once, solve once).
-* cholespy solves 1.5-2.2× faster than SuperLU and 2.0-3.6× faster than CHOLMOD with 3
+* cholespy solves 1.6-2.2× faster than SuperLU and 2.1-2.8× faster than CHOLMOD with 3
   right-hand sides (cvxopt's ``cholmod.solve`` solves one column at a time), so it leads
   :data:`SOLVE_ORDER` (ARAP's iterations, a factorization kept for many solves). Factor
-  plus ``k`` solves, cholespy is the faster from ``k`` = 16-53 (median 19) against CHOLMOD
-  and from 4-60 (median 16) against SuperLU on the 50k and 200k rows: :data:`BREAK_EVEN`.
-* CHOLMOD, when the extra is installed, factors 3.0-4.2× faster than SuperLU at 50k and
-  200k vertices (1.8-2.8× at 5k), so it leads :data:`BACKENDS`; its solves are no faster
+  plus ``k`` solves, cholespy is the faster from ``k`` = 20-41 (median 24) against CHOLMOD
+  and from 5-40 (median 19) against SuperLU on the 50k and 200k rows: :data:`BREAK_EVEN`.
+* CHOLMOD, when the extra is installed, factors 2.8-4.0× faster than SuperLU at 50k and
+  200k vertices (1.8-2.0× at 5k), so it leads :data:`BACKENDS`; its solves are no faster
   than SuperLU's, so it comes last in :data:`SOLVE_ORDER`.
 * qdldl (Apache-2.0, LDLᵀ with an AMD ordering, wheels) factors the 5k systems and the
-  50k and 200k grids 1.2-1.8× faster than SuperLU, ties on the 50k LSCM matrix and is
-  1.2-2.8× slower on the torus at 50k and 200k and 1.9× on the 200k LSCM matrix (its
-  factorization has no supernodes): no order of the two is the faster on every system, so
-  it is not a dependency; the bench still times it when it is installed.
+  50k and 200k grids 1.1-1.4× faster than SuperLU, and is 1.1-1.3× slower on the 50k and
+  200k LSCM matrices and 1.5-1.8× on the torus at 50k and 200k (its factorization has no
+  supernodes): no order of the two is the faster on every system, so it is not a
+  dependency; the bench still times it when it is installed.
 * scikit-sparse (CHOLMOD) is GPL and has no wheels; SciPy's ``spsolve`` with UMFPACK
   needs scikit-umfpack (GPL); PARDISO needs Intel's MKL (not an open-source licence).
 
@@ -85,12 +85,13 @@ conformal energy is of this form (``conformal_energy_hermitian``). Its ``n × n`
 system has the sparsity of the mesh, where the ``2n × 2n`` real one couples every vertex's
 two unknowns, and it factors 1.9-2.5× faster with SuperLU and 1.5-1.8× with CHOLMOD, at
 the same residuals or smaller (``bench/linsolve.py``, systems ``lscm`` and
-``lscm_complex``, the grid of the table; two runs, the first's factor times in seconds)::
+``lscm_complex``, the grid of the table; three runs, the last's factor times in seconds,
+the run of the table)::
 
     vertices   superlu Q   superlu K   cholmod Q   cholmod K
-    5k             0.027       0.011       0.012       0.007
-    50k            0.595       0.320       0.182       0.108
-    200k           4.080       1.687       1.065       0.588
+    5k             0.021       0.009       0.011       0.007
+    50k            0.489       0.222       0.165       0.104
+    200k           3.408       1.443       0.856       0.578
 
 The pinned split
 ----------------
@@ -133,7 +134,12 @@ BACKENDS = ("cholmod", "superlu", "cholespy")
 SOLVE_ORDER = ("cholespy", "superlu", "cholmod")
 #: From how many solves per factorization :data:`SOLVE_ORDER` beats :data:`BACKENDS`, by
 #: the backend that would factor (the module docstring has the measurements).
-BREAK_EVEN = {"cholmod": 19, "superlu": 16}
+BREAK_EVEN = {"cholmod": 24, "superlu": 19}
+#: Columns per panel of SuperLU's factorization (SciPy's copy defaults to 20, ``sp_ienv(1)``):
+#: panels of 6 factored the 5k-200k systems of ``bench/linsolve.py`` 4-15 % faster on one
+#: thread (the Laplacians 12-15 %, the ARAP blocks 4-5 %, LSCM's K 9 %); the supernodes and
+#: the fill do not depend on it, only the blocking of the updates.
+SUPERLU_PANEL = 6
 
 _MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy"}
 #: The backends that factor real matrices only.
@@ -224,7 +230,8 @@ class _SuperLU:
 
     def __init__(self, a: sp.csc_array) -> None:
         self._lu = sla.splu(sp.csc_matrix(a), permc_spec="MMD_AT_PLUS_A",
-                            diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+                            diag_pivot_thresh=0.0, options={"SymmetricMode": True},
+                            panel_size=SUPERLU_PANEL)
 
     def solve(self, b: FloatArray) -> FloatArray:
         return self._lu.solve(b)
