@@ -3,10 +3,14 @@ parameterization energy matched or beaten after the same iterations."""
 
 from __future__ import annotations
 
+import importlib
+
 import igl
 import numpy as np
 import pytest
 
+from algorithms.core.laplacian import cotangent_entries, cotangent_laplacian
+from algorithms.parameterization import arap
 from algorithms.parameterization._disk import read_disk
 from algorithms.parameterization._local_global import (
     LocalGlobalSolver,
@@ -59,8 +63,6 @@ def test_global_step_matrix_by_the_definition() -> None:
     # the right-hand side of the global step is sum_t sum_k c_k (T_t e_k), added at the
     # edge's first end f_{k+1} and taken from its second f_{k+2}; built here edge by edge
     # in a dense matrix, independently of the solver's assembly by columns
-    from algorithms.core.laplacian import cotangent_entries
-
     v, f = bumpy(seed=1)
     disk = read_disk((v, f))
     solver = LocalGlobalSolver(disk.mesh, disk.loop[:1], similarity=False, solves=1)
@@ -80,16 +82,11 @@ def test_global_step_matrix_by_the_definition() -> None:
 @pytest.mark.parametrize("init", ["lscm", "harmonic"])
 def test_arap_makes_the_cotangent_laplacian_once(init: str, monkeypatch) -> None:
     # the initial map and the global step share one (the same matrix: made once)
-    import importlib
-
-    from algorithms.parameterization import arap
-
-    original = importlib.import_module("algorithms.core.laplacian").cotangent_laplacian
     calls = []
 
     def counted(*args, **kwargs):
         calls.append(1)
-        return original(*args, **kwargs)
+        return cotangent_laplacian(*args, **kwargs)
 
     for name in ("arap", "_local_global", "conformal"):
         module = importlib.import_module(f"algorithms.parameterization.{name}")
