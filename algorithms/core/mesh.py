@@ -40,6 +40,7 @@ __all__ = [
     "boundary_edges",
     "boundary_loops",
     "cross_norm",
+    "corner_edges",
     "pattern_components",
     "edge_geometry",
     "loops_of_edges",
@@ -156,6 +157,20 @@ def edge_geometry(vertices: Any, faces: Any) -> tuple[FloatArray, FloatArray]:
         e1s.append(e1)
         e2s.append(e2)
     return sq, cross_norm(e1s, e2s)
+
+
+def corner_edges(vertices: Any, faces: Any) -> tuple[list[FloatArray], list[FloatArray]]:
+    """Each face's edges from its corner 0, ``p1 - p0`` and ``p2 - p0``, one ``(m,)`` array
+    per coordinate (1-D gathers: several times faster than ``(m, 3)`` rows)."""
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    e1, e2 = [], []
+    for k in range(v.shape[1]):
+        x = v[:, k]
+        x0 = x[f[:, 0]]
+        e1.append(x[f[:, 1]] - x0)
+        e2.append(x[f[:, 2]] - x0)
+    return e1, e2
 
 
 def cross_norm(a: list[FloatArray], b: list[FloatArray]) -> FloatArray:
@@ -484,15 +499,7 @@ def face_areas(vertices: Any, faces: Any) -> FloatArray:
     -------
     (m,) float array
     """
-    v = np.asarray(vertices, dtype=np.float64)
-    f = np.asarray(faces, dtype=np.int64)
-    e1, e2 = [], []
-    for k in range(v.shape[1]):  # one coordinate at a time: 1-D gathers, 2.5x faster
-        x = v[:, k]
-        x0 = x[f[:, 0]]
-        e1.append(x[f[:, 1]] - x0)
-        e2.append(x[f[:, 2]] - x0)
-    out = cross_norm(e1, e2)
+    out = cross_norm(*corner_edges(vertices, faces))  # 2.5x faster than rows and np.cross
     out *= 0.5
     return out
 

@@ -27,7 +27,7 @@ from typing import TypedDict
 
 import numpy as np
 
-from algorithms.core.mesh import cross_norm
+from algorithms.core.mesh import corner_edges, cross_norm
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.layout.laplacian import face_orientation
 
@@ -59,13 +59,7 @@ class Quality:
 def face_frames(vertices: FloatArray, faces: IntArray) -> FloatArray:
     """Each face's corners in an isometric 2-D frame of its plane, ``(m, 3, 2)``: corner 0
     at the origin, corner 1 on the positive x axis, corner 2 above it (counter-clockwise)."""
-    f0, f1, f2 = faces[:, 0], faces[:, 1], faces[:, 2]
-    e1, e2 = [], []
-    for k in range(vertices.shape[1]):          # one coordinate at a time: 1-D gathers
-        x = vertices[:, k]
-        x0 = x[f0]
-        e1.append(x[f1] - x0)
-        e2.append(x[f2] - x0)
+    e1, e2 = corner_edges(vertices, faces)
     l1 = np.sqrt(sum(a * a for a in e1))
     x2 = sum(a * b for a, b in zip(e1, e2)) / l1
     y2 = cross_norm(e1, e2) / l1
