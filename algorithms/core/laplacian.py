@@ -70,7 +70,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from algorithms.core.errors import InvalidInputError
-from algorithms.core.mesh import edge_geometry
+from algorithms.core.mesh import FACE_BLOCK, edge_geometry
 from algorithms.core.types import FloatArray, IntArray
 from algorithms.core.validation import as_choice
 
@@ -94,10 +94,6 @@ _PREV = [2, 0, 1]
 # Both orientations of the edge opposite each corner, the six of one face side by side.
 _ROWS6 = [1, 2, 0, 2, 0, 1]
 _COLS6 = [2, 0, 1, 1, 2, 0]
-# Faces per block of the per-face geometry: a block's temporaries (about twenty arrays of
-# this length) stay in a core's L2 cache. On a 400k-face mesh this runs 2-3x faster than
-# whole-mesh arrays, with bit-identical results.
-_BLOCK = 8192
 
 
 def _arrays(vertices: Any, faces: Any) -> tuple[FloatArray, IntArray]:
@@ -113,11 +109,12 @@ def index_dtype(n: int, nnz: int) -> type:
 def _per_face(v: FloatArray, f: IntArray,
               fn: Callable[[FloatArray, FloatArray], FloatArray]) -> FloatArray:
     """``(3, m)``: ``fn(sq, dbl)`` (a ``(3, b)`` array from the outputs of
-    :func:`~algorithms.core.mesh.edge_geometry`) over blocks of :data:`_BLOCK` faces."""
+    :func:`~algorithms.core.mesh.edge_geometry`) over blocks of
+    :data:`~algorithms.core.mesh.FACE_BLOCK` faces."""
     m = f.shape[0]
     out = np.empty((3, m))
-    for s in range(0, m, _BLOCK):
-        out[:, s:s + _BLOCK] = fn(*edge_geometry(v, f[s:s + _BLOCK]))
+    for s in range(0, m, FACE_BLOCK):
+        out[:, s:s + FACE_BLOCK] = fn(*edge_geometry(v, f[s:s + FACE_BLOCK]))
     return out
 
 
@@ -175,10 +172,10 @@ def _assemble(n: int, f: IntArray, rows3: FloatArray, *, laplacian: bool) -> sp.
     ``k``: the weight of the edge opposite corner ``k``), in one COO → CSR conversion
     (duplicates summed there).
 
-    The COO entries come block by block (:data:`_BLOCK` faces: both orientations of their
-    edges, then the next block), so the conversion's scatter writes to the rows of one
-    block of faces at a time: on a 400k-face mesh four times faster than six sweeps over
-    the whole mesh, each of which touches every row.
+    The COO entries come block by block (:data:`~algorithms.core.mesh.FACE_BLOCK` faces:
+    both orientations of their edges, then the next block), so the conversion's scatter
+    writes to the rows of one block of faces at a time: on a 400k-face mesh four times
+    faster than six sweeps over the whole mesh, each of which touches every row.
     """
     m = f.shape[0]
     k = 6 * m + (n if laplacian else 0)
@@ -186,8 +183,8 @@ def _assemble(n: int, f: IntArray, rows3: FloatArray, *, laplacian: bool) -> sp.
     ft: IntArray = np.ascontiguousarray(f.T, dtype=dt)
     rows, cols, data = np.empty(k, dtype=dt), np.empty(k, dtype=dt), np.empty(k)
     sign = -1.0 if laplacian else 1.0
-    for s in range(0, m, _BLOCK):
-        e = min(m, s + _BLOCK)
+    for s in range(0, m, FACE_BLOCK):
+        e = min(m, s + FACE_BLOCK)
         b = e - s
         for j in range(6):
             at = slice(6 * s + j * b, 6 * s + (j + 1) * b)
@@ -196,7 +193,9 @@ def _assemble(n: int, f: IntArray, rows3: FloatArray, *, laplacian: bool) -> sp.
             np.multiply(rows3[j % 3, s:e], sign, out=data[at])
     if laplacian:
         # D: a corner's row gets the weights of its face's two edges there (opposite k±1)
-        touching = rows3[_NEXT] + rows3[_PREV]
+        touching = np.empty_like(rows3)     # rows3[_NEXT] + rows3[_PREV], no gathers
+        for c in range(3):
+            np.add(rows3[_NEXT[c]], rows3[_PREV[c]], out=touching[c])
         data[6 * m:] = np.bincount(ft.ravel(), weights=touching.ravel(), minlength=n)
         rows[6 * m:] = cols[6 * m:] = np.arange(n, dtype=dt)
     out = sp.coo_array((data, (rows, cols)), shape=(n, n)).tocsr()

@@ -11,6 +11,7 @@ import trimesh
 
 from algorithms.core import DegenerateInputError, InvalidInputError
 from algorithms.core.mesh import (
+    FACE_BLOCK,
     Handles,
     Mesh,
     as_handles,
@@ -18,6 +19,7 @@ from algorithms.core.mesh import (
     boundary_edges,
     boundary_loops,
     components,
+    degenerate_faces,
     edges,
     face_angles,
     face_areas,
@@ -176,6 +178,27 @@ def test_as_mesh_counts_degenerate_faces():
     v = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [0, 1]], dtype=float)
     with pytest.raises(DegenerateInputError, match=r"at row 1 \(2 degenerate faces in all\)"):
         as_mesh(v, [[0, 1, 4], [0, 1, 2], [1, 2, 3]])
+
+
+def test_degenerate_faces_across_blocks():
+    # faces made collinear on both sides of block boundaries (the check runs block by
+    # block): exactly those are flagged, and as_mesh names the first and counts them all
+    v, f = grid(150, 60)
+    assert f.shape[0] > 2 * FACE_BLOCK
+    v = np.c_[v, np.zeros(len(v))]
+    bad = [3, FACE_BLOCK - 1, FACE_BLOCK, 2 * FACE_BLOCK + 7, f.shape[0] - 1]
+    for row in bad:   # the third corner moved onto the line through the first two
+        a, b, c = f[row]
+        v = np.r_[v, [v[a] + 0.25 * (v[b] - v[a])]]
+        f[row] = [a, b, len(v) - 1]
+    expected = np.zeros(f.shape[0], dtype=bool)
+    expected[bad] = True
+    np.testing.assert_array_equal(degenerate_faces(v, f), expected)
+    with pytest.raises(DegenerateInputError, match=r"at row 3 \(5 degenerate faces in all\)"):
+        as_mesh(v, f)
+    f[3] = grid(150, 60)[1][3]
+    with pytest.raises(DegenerateInputError, match=rf"at row {FACE_BLOCK - 1} \(4 degenerate"):
+        as_mesh(v, f)
 
 
 def test_as_mesh_rejects_coincident_corners():
