@@ -1,4 +1,5 @@
-"""Pure numpy/scipy geometry algorithms behind morphserve.
+"""The numpy/scipy geometry algorithms behind morphserve (numba compiles one search: ICP's
+nearest points, :mod:`algorithms.core.kdtree`).
 
 Nothing here knows about HTTP, Dask or pydantic: every function takes numpy arrays and
 keyword parameters and returns a small frozen dataclass. One package per family
