@@ -39,7 +39,7 @@ from numba import njit
 
 from algorithms.core.types import FloatArray, IntArray
 
-__all__ = ["KdTree", "LEAF", "nearest2"]
+__all__ = ["KdTree", "LEAF", "nearest2", "nearest2_any"]
 
 #: Points per leaf: 32 against 8 and 16 made ICP's queries of 100,000 points 1.5x and 1.15x
 #: faster (fewer nodes to descend, leaves scanned in one contiguous run).
@@ -165,10 +165,12 @@ class KdTree:
 
 
 @njit(cache=True, nogil=True)
-def _nearest2_any(x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any, perm: Any,
+def nearest2_any(x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any, perm: Any,
                   dim: Any, split: Any, left: Any, right: Any, lo: Any, hi: Any
                   ) -> tuple[float, float, int]:  # pragma: no cover - compiled
-    """:func:`nearest2` in any dimension ``d`` (``stack_box`` with ``d + 1`` columns)."""
+    """:func:`nearest2` in any dimension ``d`` (``stack_box`` with ``d + 1`` columns): a
+    loop over the coordinates where :func:`nearest2` spells out two or three (calling
+    this from there made the 3-D search a third slower: the caller chooses)."""
     d = x.shape[0]
     n = perm.shape[0]
     off = np.empty(d)
@@ -220,16 +222,13 @@ def _nearest2_any(x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any,
 def nearest2(x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any, perm: Any,
              dim: Any, split: Any, left: Any, right: Any, lo: Any, hi: Any
              ) -> tuple[float, float, int]:  # pragma: no cover - compiled
-    """The smallest and second smallest squared distances from the point ``x`` to the
-    tree's points strictly below ``b2`` (``b2`` where there are not
-    two), and the index of the nearest (``len(perm)`` where there is none; the smallest
-    index among equals). ``stack_node`` (int) and ``stack_box`` (float, ``max(4, d + 1)``
-    columns) are the caller's scratch arrays of at least :attr:`KdTree.stack` rows; other
-    dimensions than 2 and 3 go to a loop over the coordinates."""
+    """The smallest and second smallest squared distances from the point ``x`` (2 or 3
+    coordinates; :func:`nearest2_any` for others) to the tree's points strictly below
+    ``b2`` (``b2`` where there are not two), and the index of the nearest (``len(perm)``
+    where there is none; the smallest index among equals). ``stack_node`` (int) and
+    ``stack_box`` (float, ``max(4, d + 1)`` columns) are the caller's scratch arrays of at
+    least :attr:`KdTree.stack` rows."""
     d = x.shape[0]
-    if d != 2 and d != 3:
-        return _nearest2_any(x, b2, stack_node, stack_box, data, perm, dim, split, left,
-                             right, lo, hi)
     n = perm.shape[0]
     x0, x1 = x[0], x[1]
     x2 = x[2] if d == 3 else 0.0
@@ -289,9 +288,14 @@ def _query_rows(x: Any, b2: float, stack: int, data: Any, perm: Any, dim: Any, s
     idx = np.empty(m, np.int64)
     stack_node = np.empty(stack, np.int64)
     stack_box = np.empty((stack, max(4, x.shape[1] + 1)))
+    spelled = x.shape[1] == 2 or x.shape[1] == 3
     for i in range(m):
-        s1, s2, k = nearest2(x[i], b2, stack_node, stack_box, data, perm, dim, split,
-                             left, right, lo, hi)
+        if spelled:
+            s1, s2, k = nearest2(x[i], b2, stack_node, stack_box, data, perm, dim, split,
+                                 left, right, lo, hi)
+        else:
+            s1, s2, k = nearest2_any(x[i], b2, stack_node, stack_box, data, perm, dim,
+                                     split, left, right, lo, hi)
         d1[i] = np.sqrt(s1) if k < n else np.inf
         d2[i] = np.sqrt(s2) if s2 < b2 else np.inf
         idx[i] = k

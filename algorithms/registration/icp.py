@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation
 
 from algorithms.alignment import affine, pca, rigid, similarity
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
-from algorithms.core.kdtree import KdTree, nearest2
+from algorithms.core.kdtree import KdTree, nearest2, nearest2_any
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.pairs import Pairs, rotation_fit, trusted_pairs
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
@@ -359,9 +359,10 @@ class _Problem:
         bound = math.inf if self.max_dist is None else self.max_dist * (1 + 1e-9)
         first = self.partner is None
         partner = idx if first else self.partner
+        search = nearest2 if moved.shape[1] in (2, 3) else nearest2_any
         queried[0] = _nearest_rows(
-            lo, hi, moved, self.anchor, self.slack, partner, first, tol, KEEP_RTOL, bound,
-            dist, idx, self.tree.data, self.tree.stack, *self.tree.nodes())
+            search, lo, hi, moved, self.anchor, self.slack, partner, first, tol, KEEP_RTOL,
+            bound, dist, idx, self.tree.data, self.tree.stack, *self.tree.nodes())
 
     def weights(self, residual: FloatArray) -> FloatArray | None:
         """IRLS weights ``ψ(r)/r`` of the robust kernel for absolute residuals ``residual``."""
@@ -794,12 +795,14 @@ def icp(
 
 
 @njit(cache=True, nogil=True)
-def _nearest_rows(lo: int, hi: int, moved: Any, anchor: Any, slack: Any, partner: Any,
+def _nearest_rows(search: Any, lo: int, hi: int, moved: Any, anchor: Any, slack: Any, partner: Any,
                   first: bool, tol: float, rtol: float, bound: float, dist: Any, idx: Any,
                   dst: Any, stack: int, *tree: Any) -> int:  # pragma: no cover - compiled
     """The rows ``lo:hi`` of :meth:`_Problem.nearest`: each point keeps its ``partner``
-    when the test proves it still the nearest, else is queried (and its ``anchor`` and
-    ``slack`` renewed). Returns the number queried."""
+    when the test proves it still the nearest, else is queried with ``search``
+    (:func:`~algorithms.core.kdtree.nearest2`, or ``nearest2_any`` beyond 3-D: compiled
+    apart for each, the 3-D loop stays small) and its ``anchor`` and ``slack`` renewed.
+    Returns the number queried."""
     d = moved.shape[1]
     m = dst.shape[0]
     b2 = bound * bound
@@ -825,7 +828,7 @@ def _nearest_rows(lo: int, hi: int, moved: Any, anchor: Any, slack: Any, partner
                 dist[i], idx[i] = near, p
                 continue
         count += 1
-        s1, s2, k = nearest2(moved[i], b2, stack_node, stack_box, *tree)
+        s1, s2, k = search(moved[i], b2, stack_node, stack_box, *tree)
         if k < m:
             dist[i], idx[i] = np.sqrt(s1), k
             # no second within the bound: the bound
