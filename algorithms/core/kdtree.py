@@ -24,11 +24,13 @@ summed over the coordinates in order, ``(x0 - p0)² + (x1 - p1)² + ...``, as cK
 it: the same bits.
 
 The search descends to the leaf of the query point, then visits the other sides of the
-splits on its way back whose distance from the query point is at most the second
-smallest distance found so far (at most, not below: a point at exactly that distance may
-still be the lowest-indexed one of a tie). That distance along one coordinate is a lower
-bound of the full distance in floating point too (rounding is monotonic and the terms
-are not negative), so no point that counts is ever skipped.
+splits on its way back whose cell lies at most the second smallest distance found so far
+from the query point (at most, not below: a point at exactly that distance may still be
+the lowest-indexed one of a tie). A cell's distance is summed from the offsets of the
+query point from the split planes that bound the cell, one per coordinate; each offset is
+at most the coordinate's difference to any point in the cell, and rounding is monotonic
+with terms that are not negative, so the sum is a lower bound of every such point's
+squared distance in floating point too: no point that counts is ever skipped.
 """
 
 from __future__ import annotations
