@@ -152,6 +152,12 @@ class KdTree:
         self.stack = int(depth) + 1
         self.sorted = np.ascontiguousarray(self.data[self.perm])
 
+    @property
+    def search(self) -> Any:
+        """The compiled search for this tree's dimension: :func:`nearest2` in 2-D and 3-D,
+        :func:`nearest2_any` in others (each caller compiled apart for it)."""
+        return nearest2 if self.data.shape[1] in (2, 3) else nearest2_any
+
     def nodes(self) -> tuple[Any, ...]:
         """The arguments :func:`nearest2` takes after the query point."""
         return (self.sorted, self.perm, self.dim, self.split, self.left, self.right,
@@ -164,8 +170,22 @@ class KdTree:
         (``n`` where there is none). A plain loop over :func:`nearest2`, for tests and
         callers outside compiled code."""
         x = np.ascontiguousarray(x, dtype=np.float64)
-        d1, d2, idx = _query_rows(x, float(bound) ** 2, self.stack, *self.nodes())
+        d1, d2, idx = _query_rows(self.search, x, float(bound) ** 2, self.stack,
+                                  *self.nodes())
         return d1, d2, idx
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _offer(s: float, p: int, best1: float, best2: float, found: int
+           ) -> tuple[float, float, int]:  # pragma: no cover - compiled
+    """The two smallest squared distances and the nearest's index after the point ``p`` at
+    ``s`` is seen: among equals the smallest index is the nearest, and a tie leaves the
+    second smallest equal to the smallest."""
+    if s < best1 or (s == best1 and p < found):
+        return s, best1, p
+    if s < best2:
+        return best1, s, found
+    return best1, best2, found
 
 
 @njit(cache=True, nogil=True)
@@ -212,13 +232,8 @@ def nearest2_any(x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any, 
             for k in range(d):
                 e = x[k] - data[t, k]
                 s += e * e
-            if s > best2 or s >= b2:
-                continue
-            p = perm[t]
-            if s < best1 or (s == best1 and p < found):
-                best2, best1, found = best1, s, p
-            elif s < best2:
-                best2 = s
+            if s <= best2 and s < b2:
+                best1, best2, found = _offer(s, perm[t], best1, best2, found)
     return best1, best2, found
 
 
@@ -272,19 +287,15 @@ def nearest2(x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any, perm
             if d == 3:
                 e2 = x2 - data[t, 2]
                 s += e2 * e2
-            if s > best2 or s >= b2:
-                continue
-            p = perm[t]
-            if s < best1 or (s == best1 and p < found):
-                best2, best1, found = best1, s, p
-            elif s < best2:
-                best2 = s
+            if s <= best2 and s < b2:
+                best1, best2, found = _offer(s, perm[t], best1, best2, found)
     return best1, best2, found
 
 
 @njit(cache=True, nogil=True)
-def _query_rows(x: Any, b2: float, stack: int, data: Any, perm: Any, dim: Any, split: Any,
-                left: Any, right: Any, lo: Any, hi: Any) -> Any:  # pragma: no cover - compiled
+def _query_rows(search: Any, x: Any, b2: float, stack: int, data: Any, perm: Any, dim: Any,
+                split: Any, left: Any, right: Any, lo: Any,
+                hi: Any) -> Any:  # pragma: no cover - compiled
     m = x.shape[0]
     n = perm.shape[0]
     d1 = np.empty(m)
@@ -292,14 +303,9 @@ def _query_rows(x: Any, b2: float, stack: int, data: Any, perm: Any, dim: Any, s
     idx = np.empty(m, np.int64)
     stack_node = np.empty(stack, np.int64)
     stack_box = np.empty((stack, max(4, x.shape[1] + 1)))
-    spelled = x.shape[1] == 2 or x.shape[1] == 3
     for i in range(m):
-        if spelled:
-            s1, s2, k = nearest2(x[i], b2, stack_node, stack_box, data, perm, dim, split,
-                                 left, right, lo, hi)
-        else:
-            s1, s2, k = nearest2_any(x[i], b2, stack_node, stack_box, data, perm, dim,
-                                     split, left, right, lo, hi)
+        s1, s2, k = search(x[i], b2, stack_node, stack_box, data, perm, dim, split, left,
+                           right, lo, hi)
         d1[i] = np.sqrt(s1) if k < n else np.inf
         d2[i] = np.sqrt(s2) if s2 < b2 else np.inf
         idx[i] = k

@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation
 
 from algorithms.alignment import affine, pca, rigid, similarity
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
-from algorithms.core.kdtree import KdTree, nearest2, nearest2_any
+from algorithms.core.kdtree import KdTree
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.pairs import Pairs, rotation_fit, trusted_pairs
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
@@ -358,10 +358,9 @@ class _Problem:
         bound = math.inf if self.max_dist is None else self.max_dist * (1 + 1e-9)
         first = self.partner is None
         partner = idx if first else self.partner
-        search = nearest2 if moved.shape[1] in (2, 3) else nearest2_any
         queried[0] = _nearest_rows(
-            search, lo, hi, moved, self.anchor, self.slack, partner, first, tol, KEEP_RTOL,
-            bound, dist, idx, self.tree.data, self.tree.stack, *self.tree.nodes())
+            self.tree.search, lo, hi, moved, self.anchor, self.slack, partner, first, tol,
+            KEEP_RTOL, bound, dist, idx, self.tree.data, self.tree.stack, *self.tree.nodes())
 
     def weights(self, residual: FloatArray) -> FloatArray | None:
         """IRLS weights ``ψ(r)/r`` of the robust kernel for absolute residuals ``residual``."""
