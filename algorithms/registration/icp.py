@@ -228,7 +228,7 @@ class _Problem:
         self.src_normals: FloatArray | None = None
         if metric != "point_to_point":
             if target_normals is None:
-                normals, planarity = estimate_normals(dst, cKDTree(dst), normal_neighbors,
+                normals, planarity = estimate_normals(dst, None, normal_neighbors,
                                                       query_workers(dst.shape[0]))
                 self.tgt_normals = normals
                 self.tgt_ok = (planarity > PLANARITY_MIN).astype(float)
@@ -236,7 +236,7 @@ class _Problem:
                 self.tgt_normals = target_normals   # every one usable: tgt_ok None
         if metric == "symmetric":
             if source_normals is None:
-                normals, _ = estimate_normals(src, cKDTree(src), normal_neighbors, self.workers)
+                normals, _ = estimate_normals(src, None, normal_neighbors, self.workers)
                 self.src_normals = normals
             else:
                 self.src_normals = source_normals
