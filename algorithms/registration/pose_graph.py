@@ -23,6 +23,7 @@ from algorithms.core.parallel import task_map
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, validate_params
 from algorithms.core.progress import Progress, as_progress
 from algorithms.core.se3 import adjoint, exp, hat, inverse, left_jacobian_inverse, log
+from algorithms.core.threads import query_workers
 from algorithms.core.types import FloatArray, IntArray, KnnQuery
 from algorithms.core.validation import as_int
 from algorithms.registration._normals import reuse_normals
@@ -242,9 +243,10 @@ def pose_graph(
     k = len(pts)
     start = None if init is None else check_transforms(init, k, 3, "rigid")
     check_neighbors(neighbors, k)
+    trees = [cKDTree(p) for p in pts]
     opts = _GraphOptions(
         max_dist=(max_correspondence_distance if max_correspondence_distance is not None
-                  else _default_distance(pts)),
+                  else _default_distance(pts, trees)),
         metric=metric,
         neighbors=neighbors,
         min_fitness=min_fitness,
@@ -254,7 +256,7 @@ def pose_graph(
         max_iterations=max_iterations,
         tolerance=tolerance,
     )
-    result = _pose_graph(pts, start, opts, report)
+    result = _pose_graph(pts, trees, start, opts, report)
     if not result.converged:
         warn(f"Pose-graph optimisation did not converge: {result.reason}.",
              ConvergenceWarning)
@@ -294,11 +296,11 @@ class _Edge:
     kept: bool = True
 
 
-def _default_distance(pts: list[FloatArray]) -> float:
+def _default_distance(pts: list[FloatArray], trees: Sequence[cKDTree]) -> float:
     spacings = []
-    for p in pts:
+    for p, tree in zip(pts, trees, strict=True):
         sample = p[:: max(1, len(p) // SPACING_SAMPLE)]
-        dist, _ = cast(KnnQuery, cKDTree(p).query(sample, k=2))
+        dist, _ = cast(KnnQuery, tree.query(sample, k=2))
         spacings.append(float(np.median(dist[:, 1])))
     value = SPACING_FACTOR * float(np.median(spacings))
     if not value > 0:
@@ -345,17 +347,23 @@ def _register_pair(src: FloatArray, dst: FloatArray, start: FloatArray, opts: _G
 
 def _pair_call(call: tuple[int, int, int, FloatArray, FloatArray, FloatArray],
                report: Progress, *, opts: _GraphOptions, icp_work: int, work: int
-               ) -> tuple[FloatArray, float]:
+               ) -> tuple[FloatArray, float, FloatArray, int]:
     """One pair's registration, a call of :func:`~algorithms.core.parallel.task_map`:
-    ``call`` is ``(number, i, j, set i, set j, start)``; reports in the graph's units."""
+    ``call`` is ``(number, i, j, set i, set j, start)``; reports in the graph's units.
+    Returns the edge's transform, fitness, information matrix (of the target points paired
+    within the bound under the transform) and count of those pairs: all the edge needs of
+    the two sets, computed where the sets are."""
     number, i, j, src, dst, guess = call
 
     def scaled(done: float, total: float, message: str = "") -> None:  # total: ICP's own
         report(number * icp_work + done, work, message)
 
     z, fit = _register_pair(src, dst, guess, opts, scaled)
+    moved = src @ z[:3, :3].T + z[:3, 3]
+    dist, idx = cast(KnnQuery, cKDTree(dst).query(moved, distance_upper_bound=opts.max_dist))
+    idx = idx[np.isfinite(dist)]
     report((number + 1) * icp_work, work, f"pair {i}→{j}: fitness {fit:.3g}")
-    return z, fit
+    return z, fit, _information(dst[idx]), int(idx.size)
 
 
 def _offset(report: Progress, base: int) -> Progress:
@@ -376,14 +384,13 @@ def _information(q: FloatArray) -> FloatArray:
     return info
 
 
-def _pose_graph(pts: list[FloatArray], start: FloatArray | None, opts: _GraphOptions,
-                report: Progress) -> MultiwayResult:
+def _pose_graph(pts: list[FloatArray], trees: Sequence[cKDTree], start: FloatArray | None,
+                opts: _GraphOptions, report: Progress) -> MultiwayResult:
     k = len(pts)
     pairs = _pairs(k, opts.neighbors)
     # Consecutive sets are odometry (trusted, as scans in acquisition order) only when the
     # pairs follow the order; among all pairs the order may mean nothing.
     sequential = opts.neighbors is not None or k > ALL_PAIRS_UP_TO
-    trees = [cKDTree(p) for p in pts]
     icp_work = len(STAGES) * opts.icp_iterations
     work = len(pairs) * icp_work + 2 * opts.max_iterations
 
@@ -397,14 +404,9 @@ def _pose_graph(pts: list[FloatArray], start: FloatArray | None, opts: _GraphOpt
     with reuse_normals():  # run here, the pairs estimate each set's normals once in all
         registered = task_map(functools.partial(_pair_call, opts=opts, icp_work=icp_work,
                                                 work=work), calls, report)
-    edges: list[_Edge] = []
-    for (i, j), (z, fit) in zip(pairs, registered, strict=True):
-        moved = pts[i] @ z[:3, :3].T + z[:3, 3]
-        dist, idx = cast(KnnQuery, trees[j].query(moved, distance_upper_bound=opts.max_dist))
-        idx = idx[np.isfinite(dist)]
-        edges.append(_Edge(i, j, z, _information(pts[j][idx]), fit, int(idx.size),
-                           odometry=sequential and j == i + 1,
-                           kept=fit >= opts.min_fitness))
+    edges = [_Edge(i, j, z, info, fit, count, odometry=sequential and j == i + 1,
+                   kept=fit >= opts.min_fitness)
+             for (i, j), (z, fit, info, count) in zip(pairs, registered, strict=True)]
     _check_connected(k, edges, opts)
     poses = _spanning_tree_poses(k, [e for e in edges if e.kept])
     used = [e for e in edges if e.kept]
@@ -586,15 +588,24 @@ def _agreement(pts: list[FloatArray], trees: Sequence[cKDTree], poses: FloatArra
     for e in edges:
         partners[e.i].add(e.j)
         partners[e.j].add(e.i)
+    # each tree queried once, for all the sets paired with it (enough points at once for
+    # the query's threads); each set keeps its nearest distance over its partners
+    best = [np.full(len(p), np.inf) for p in pts]
+    for j in range(k):
+        sources = sorted(partners[j])
+        if not sources:
+            continue
+        rel = inverse(poses[j]) @ poses[sources]           # set i's frame into set j's
+        moved = np.concatenate([pts[i] @ r[:3, :3].T + r[:3, 3]
+                                for i, r in zip(sources, rel, strict=True)])
+        dist, _ = trees[j].query(moved, distance_upper_bound=max_dist,
+                                 workers=query_workers(len(moved)))
+        ends = np.cumsum([len(pts[i]) for i in sources])
+        for i, part in zip(sources, np.split(dist, ends[:-1]), strict=True):
+            np.minimum(best[i], part, out=best[i])
     rmse, fitness = np.zeros(k), np.zeros(k)
     for i in range(k):
-        best = np.full(len(pts[i]), np.inf)
-        for j in sorted(partners[i]):
-            rel = inverse(poses[j]) @ poses[i]
-            moved = pts[i] @ rel[:3, :3].T + rel[:3, 3]
-            dist, _ = trees[j].query(moved, distance_upper_bound=max_dist)
-            np.minimum(best, dist, out=best)
-        inside = best[np.isfinite(best)]
+        inside = best[i][np.isfinite(best[i])]
         fitness[i] = inside.size / len(pts[i])
         rmse[i] = math.sqrt(float(inside @ inside) / inside.size) if inside.size else 0.0
     return rmse, fitness
