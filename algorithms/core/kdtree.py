@@ -42,7 +42,7 @@ from numba import njit
 
 from algorithms.core.types import FloatArray, IntArray
 
-__all__ = ["KdTree", "LEAF", "nearest2", "nearest2_any"]
+__all__ = ["KdTree", "LEAF", "nearest2", "nearest2_any", "search"]
 
 #: Points per leaf: 32 against 8 and 16 made the queries of the bench's 100,000-point ICP
 #: pair 1.5x and 1.15x faster (fewer nodes to descend, leaves scanned in one contiguous
@@ -153,10 +153,12 @@ class KdTree:
         self.sorted = np.ascontiguousarray(self.data[self.perm])
 
     @property
-    def search(self) -> Any:
-        """The compiled search for this tree's dimension: :func:`nearest2` in 2-D and 3-D,
-        :func:`nearest2_any` in others (each caller compiled apart for it)."""
-        return nearest2 if self.data.shape[1] in (2, 3) else nearest2_any
+    def wide(self) -> int | None:
+        """What :func:`search` takes to pick the search for the tree's dimension: ``None``
+        for points of 2 or 3 coordinates (:func:`nearest2`), else their number
+        (:func:`nearest2_any`)."""
+        d = int(self.data.shape[1])
+        return None if d in (2, 3) else d
 
     def nodes(self) -> tuple[Any, ...]:
         """The arguments :func:`nearest2` takes after the query point."""
@@ -170,7 +172,7 @@ class KdTree:
         (``n`` where there is none). A plain loop over :func:`nearest2`, for tests and
         callers outside compiled code."""
         x = np.ascontiguousarray(x, dtype=np.float64)
-        d1, d2, idx = _query_rows(self.search, x, float(bound) ** 2, self.stack,
+        d1, d2, idx = _query_rows(self.wide, x, float(bound) ** 2, self.stack,
                                   *self.nodes())
         return d1, d2, idx
 
@@ -293,7 +295,34 @@ def nearest2(x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any, perm
 
 
 @njit(cache=True, nogil=True)
-def _query_rows(search: Any, x: Any, b2: float, stack: int, data: Any, perm: Any, dim: Any,
+def search(wide: int | None, x: Any, b2: float, stack_node: Any, stack_box: Any, data: Any,
+           perm: Any, dim: Any, split: Any, left: Any, right: Any, lo: Any, hi: Any
+           ) -> tuple[float, float, int]:  # pragma: no cover - compiled
+    """:func:`nearest2` if ``wide`` is None (points of 2 or 3 coordinates:
+    :attr:`KdTree.wide`), else :func:`nearest2_any`: the one way compiled callers pick the
+    search.
+
+    Compiled apart for ``None`` and for an integer, each with the other branch pruned
+    (numba decides ``is None`` from the argument's type), so a 3-D caller holds only
+    :func:`nearest2`: a boolean flag, with both branches in the loop, made the 10,000-point
+    ICP pair 13 % slower.
+
+    Why not the search itself as an argument (as callers did): a compiled function cached
+    on disk whose signature holds another compiled function keeps that one in its cache
+    index by a weak reference, restored from the file as a new object that nothing else
+    holds. Once numba lets it go (it keeps the last 128 it restored), the next compile of
+    the caller in that process, for a signature not yet in the index, fails to write the
+    index back (``ReferenceError: underlying object has vanished``): a multiway job on a
+    Dask worker failed so."""
+    if wide is None:
+        return nearest2(x, b2, stack_node, stack_box, data, perm, dim, split, left, right,
+                        lo, hi)
+    return nearest2_any(x, b2, stack_node, stack_box, data, perm, dim, split, left, right,
+                        lo, hi)
+
+
+@njit(cache=True, nogil=True)
+def _query_rows(wide: int | None, x: Any, b2: float, stack: int, data: Any, perm: Any, dim: Any,
                 split: Any, left: Any, right: Any, lo: Any,
                 hi: Any) -> Any:  # pragma: no cover - compiled
     m = x.shape[0]
@@ -304,8 +333,8 @@ def _query_rows(search: Any, x: Any, b2: float, stack: int, data: Any, perm: Any
     stack_node = np.empty(stack, np.int64)
     stack_box = np.empty((stack, max(4, x.shape[1] + 1)))
     for i in range(m):
-        s1, s2, k = search(x[i], b2, stack_node, stack_box, data, perm, dim, split, left,
-                           right, lo, hi)
+        s1, s2, k = search(wide, x[i], b2, stack_node, stack_box, data, perm, dim, split,
+                           left, right, lo, hi)
         d1[i] = np.sqrt(s1) if k < n else np.inf
         d2[i] = np.sqrt(s2) if s2 < b2 else np.inf
         idx[i] = k

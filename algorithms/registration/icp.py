@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation
 
 from algorithms.alignment import affine, pca, rigid, similarity
 from algorithms.core.errors import ConvergenceWarning, DegenerateInputError, InvalidInputError, warn
-from algorithms.core.kdtree import KdTree
+from algorithms.core.kdtree import KdTree, search
 from algorithms.core.linalg import RANK_RTOL, det, homogeneous, procrustes
 from algorithms.core.pairs import Pairs, rotation_fit, trusted_pairs
 from algorithms.core.params import ArrayInput, Ge, Gt, Interval, PointsLike, validate_params
@@ -359,7 +359,7 @@ class _Problem:
         first = self.partner is None
         partner = idx if first else self.partner
         queried[0] = _nearest_rows(
-            self.tree.search, lo, hi, moved, self.anchor, self.slack, partner, first, tol,
+            self.tree.wide, lo, hi, moved, self.anchor, self.slack, partner, first, tol,
             KEEP_RTOL, bound, dist, idx, self.tree.data, self.tree.stack, *self.tree.nodes())
 
     def weights(self, residual: FloatArray) -> FloatArray | None:
@@ -793,13 +793,14 @@ def icp(
 
 
 @njit(cache=True, nogil=True)
-def _nearest_rows(search: Any, lo: int, hi: int, moved: Any, anchor: Any, slack: Any, partner: Any,
-                  first: bool, tol: float, rtol: float, bound: float, dist: Any, idx: Any,
-                  dst: Any, stack: int, *tree: Any) -> int:  # pragma: no cover - compiled
+def _nearest_rows(wide: int | None, lo: int, hi: int, moved: Any, anchor: Any, slack: Any,
+                  partner: Any, first: bool, tol: float, rtol: float, bound: float, dist: Any,
+                  idx: Any, dst: Any, stack: int,
+                  *tree: Any) -> int:  # pragma: no cover - compiled
     """The rows ``lo:hi`` of :meth:`_Problem.nearest`: each point keeps its ``partner``
-    when the test proves it still the nearest, else is queried with ``search``
-    (:func:`~algorithms.core.kdtree.nearest2`, or ``nearest2_any`` beyond 3-D: compiled
-    apart for each, the 3-D loop stays small) and its ``anchor`` and ``slack`` renewed.
+    when the test proves it still the nearest, else is queried with
+    :func:`~algorithms.core.kdtree.search` (``wide``: the tree's
+    :attr:`~algorithms.core.kdtree.KdTree.wide`) and its ``anchor`` and ``slack`` renewed.
     Returns the number queried."""
     d = moved.shape[1]
     m = dst.shape[0]
@@ -826,7 +827,7 @@ def _nearest_rows(search: Any, lo: int, hi: int, moved: Any, anchor: Any, slack:
                 dist[i], idx[i] = near, p
                 continue
         count += 1
-        s1, s2, k = search(moved[i], b2, stack_node, stack_box, *tree)
+        s1, s2, k = search(wide, moved[i], b2, stack_node, stack_box, *tree)
         if k < m:
             dist[i], idx[i] = np.sqrt(s1), k
             # no second within the bound: the bound

@@ -4,11 +4,16 @@ strictly within the bound, and trees of any depth."""
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
 from algorithms.core.kdtree import KdTree
+
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _brute(data: np.ndarray, x: np.ndarray, bound: float = np.inf):
@@ -79,3 +84,67 @@ def test_coincident_points_and_deep_trees():
     got = tree.query2(x)
     for a, b in zip(got, _brute(deep, x), strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+_CACHE_RUN = """
+import sys
+import numpy as np
+from scipy.spatial import cKDTree
+from algorithms.core.kdtree import KdTree
+for d, frozen in {cases}:
+    x = np.random.default_rng(d).random((200, d))
+    q = x[::-1].copy()
+    q.flags.writeable = not frozen
+    d1, d2, idx = KdTree(x).query2(q)
+    dist, near = cKDTree(x).query(q, k=2)
+    assert np.array_equal(d1, dist[:, 0]) and np.array_equal(d2, dist[:, 1]), d
+print("ok")
+"""
+
+
+def test_the_disk_cache_survives_a_second_process(tmp_path):
+    """A process that loads the cache index another one wrote and then compiles a new
+    signature writes the index back: a compiled function that took another one as an
+    argument failed there (``ReferenceError: underlying object has vanished``, once numba
+    let go of the function it restored from the index; ``NUMBA_FUNCTION_CACHE_SIZE=0``
+    lets go at once, where a Dask worker did after a while)."""
+    import subprocess
+    import sys
+
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    runs = [("[(3, False)]", {}),
+            ("[(3, False), (5, False), (2, True), (3, True)]",
+             {"NUMBA_FUNCTION_CACHE_SIZE": "0"})]
+    for cases, extra in runs:
+        done = subprocess.run([sys.executable, "-c", _CACHE_RUN.format(cases=cases)],
+                              env={**env, **extra}, capture_output=True, text=True,
+                              cwd=ROOT, timeout=600)
+        assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr[-3000:]
+    assert any(tmp_path.rglob("*.nbi")), "nothing was cached: the test tested nothing"
+
+
+def test_no_compiled_function_takes_another_as_an_argument():
+    """The rule the test above guards, over every compiled function of the package that
+    has run in this process (the kd-tree's queries and ICP's search, in 2-D, 3-D and
+    5-D, run here first): no signature holds a compiled function's type."""
+    import importlib
+    import pkgutil
+
+    from numba.core import types
+    from numba.core.registry import CPUDispatcher
+
+    import algorithms
+    from algorithms.registration import icp
+
+    for d in (2, 3, 5):
+        x = np.random.default_rng(d).random((300, d))
+        KdTree(x).query2(x)
+        assert icp(x + 0.01, x, max_iterations=3).transform.shape == (d + 1, d + 1)
+
+    for info in pkgutil.walk_packages(algorithms.__path__, "algorithms."):
+        module = importlib.import_module(info.name)
+        for name, value in vars(module).items():
+            if isinstance(value, CPUDispatcher):
+                for signature in value.signatures:
+                    assert not any(isinstance(t, types.Dispatcher) for t in signature), \
+                        f"{info.name}.{name}{signature}"
