@@ -85,21 +85,24 @@ class DaskMapper:
         prefix = f"{task_prefix(job_id)}{uuid.uuid4().hex[:12]}-"
         results: list[Any] = [None] * len(items)
         with worker_client() as client:  # secedes now, rejoins at the end of the block
-            futures = [client.submit(_run_task, fn, item, job_id, time_left,
-                                     key=f"{prefix}{n}", pure=False)
-                       for n, item in enumerate(items)]
+            # one message for all the tasks; the results fetched by the batch that ended
+            futures = client.map(_run_task, items, fn=fn, job_id=job_id,
+                                 time_left=time_left, pure=False,
+                                 key=[f"{prefix}{n}" for n in range(len(items))])
             index = {f.key: n for n, f in enumerate(futures)}
             best = -math.inf
             try:
-                for future in as_completed(futures):
-                    status, value, last = future.result()  # a task's error raises here
-                    if status == _CANCELLED:
-                        self.reporter.reason = value
-                        raise Cancelled(f"a task of the job stopped: {value}")
-                    results[index[future.key]] = value
-                    if last is not None and last[0] > best:
-                        best = last[0]
-                        progress(*last)
+                for batch in as_completed(futures).batches():
+                    # a task's error raises here
+                    for future, (status, value, last) in zip(batch, client.gather(batch),
+                                                             strict=True):
+                        if status == _CANCELLED:
+                            self.reporter.reason = value
+                            raise Cancelled(f"a task of the job stopped: {value}")
+                        results[index[future.key]] = value
+                        if last is not None and last[0] > best:
+                            best = last[0]
+                            progress(*last)
             except BaseException:
                 client.cancel(futures)  # those not started never will
                 raise
@@ -122,7 +125,7 @@ def _drop(event: dict[str, Any]) -> None:
     """A task publishes no progress of its own: the job's thread reports as tasks end."""
 
 
-def _run_task(fn: Callable[[Any, Progress], Any], item: Any, job_id: str,
+def _run_task(item: Any, fn: Callable[[Any, Progress], Any], job_id: str,
               time_left: float | None) -> tuple[str, Any, tuple[float, float, str] | None]:
     """One call, on a worker: ``(status, result or reason, last report)``; ``status`` is
     ``"done"``, or ``"cancelled"`` with the reason (``"dismissed"``, ``"time-limit"``)."""
