@@ -136,7 +136,8 @@ def threads() -> str:
             parts.append(f"{p['internal_api']}({Path(p['filepath']).name})={p['num_threads']}")
     except ImportError:  # pragma: no cover
         pass
-    parts.append("cholespy=all cores (its own pool); superlu, qdldl=1")
+    parts.append("cholespy=all cores (its own pool); superlu, qdldl=1; multifrontal=its "
+                 "BLAS's (the openblas above)")
     return ", ".join(parts)
 
 
@@ -160,7 +161,8 @@ def bench(kind: str, size: str, repeats: int) -> None:
     if a.dtype.kind == "c":  # complex right-hand sides; cholespy and qdldl are real only
         b1 = b1 + 1j * rng.standard_normal(a.shape[0])
         b3 = b3 + 1j * rng.standard_normal((a.shape[0], 3))
-        cands = [(n, make) for n, make in cands if n not in ("cholespy", "qdldl")]
+        cands = [(n, make) for n, make in cands
+                 if n not in ("cholespy", "qdldl", "multifrontal")]
     times: dict[str, dict[str, list[float]]] = {n: {"f": [], "s1": [], "s3": []}
                                                  for n, _ in cands}
     res: dict[str, float] = {}
@@ -182,7 +184,8 @@ def bench(kind: str, size: str, repeats: int) -> None:
             del fac
     med = {n: {k: statistics.median(v) for k, v in d.items()} for n, d in times.items()}
     best = {k: min(m[k] for m in med.values()) for k in ("f", "s1", "s3")}
-    dists = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy", "qdldl": "qdldl"}
+    dists = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy", "qdldl": "qdldl",
+             "multifrontal": "morphserve"}
     rows = []
     for name, m in med.items():
         label = f"{name} ({dists[name]} {version(dists[name])})"

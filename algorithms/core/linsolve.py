@@ -13,10 +13,14 @@ first):
   CHOLMOD are GPL-3.0-or-later, so they are not part of the default install; they come
   with ``pip install 'morphserve[cholmod]'`` (or the image's ``EXTRAS=cholmod``). Without
   cvxopt this backend is simply not available, and nothing imports it.
+* ``"multifrontal"``: our own sparse Cholesky, :mod:`algorithms.core.cholesky` (nested
+  dissection, relaxed supernodes, dense blocks through BLAS; compiled with numba, part of
+  this package). The default install's first backend, for real matrices only.
 * ``"superlu"``: SciPy's SuperLU (BSD-3-Clause, always there) with the symmetric
   ``MMD_AT_PLUS_A`` ordering and no pivoting threshold (SPD matrices need none); it also
   handles symmetric indefinite matrices, so a matrix a Cholesky backend refuses as not
-  positive definite falls back to it. The default install's only backend.
+  positive definite falls back to it. In the default install it factors the complex
+  Hermitian matrices, and serves many solves (:data:`SOLVE_ORDER`).
 * ``"cholespy"``: CHOLMOD again, through ``cholespy`` (slow to factor, fastest to solve:
   blocked over right-hand sides and multi-threaded). **Optional** as well: cholespy's own
   code is BSD-3-Clause, but its wheels compile in CHOLMOD's Core, Cholesky and Partition
@@ -29,41 +33,51 @@ systems this package solves, each at about 5k, 50k and 200k vertices: the pinned
 Laplacian of a jittered wavy grid (harmonic and biharmonic deformation, Tutte and
 Laplacian layout), the ARAP free block of a torus with 1 % of its vertices pinned, and the
 LSCM matrix ``Q`` (``2n`` unknowns) of the grid with two pins. Medians of 3 interleaved
-runs on a quiet 2-core machine (load average 0.2-1.0; CHOLMOD on cvxopt's OpenBLAS with 1
+runs on a 2-core machine (load average 0.3-1.1; CHOLMOD on cvxopt's OpenBLAS with 1
 thread, cholespy with its own pool of 2, SuperLU (panels of :data:`SUPERLU_PANEL` columns)
-and qdldl one thread); on a shared machine only the ratios within a row mean much. Factor
-in seconds, the solve of 3 right-hand sides in milliseconds::
+one thread, the multifrontal Cholesky with SciPy's OpenBLAS, 2 threads); on a shared
+machine only the ratios within a row mean much. Factor in seconds, the solve of 3
+right-hand sides in milliseconds::
 
-                                      factor (s)                   solve, 3 rhs (ms)
-    system           unknowns  cholmod superlu cholespy qdldl   cholmod superlu cholespy
-    Laplacian 5k        4,761    0.004   0.007   0.015  0.005       1.0     0.8     0.4
-    ARAP 5k             4,954    0.006   0.012   0.018  0.010       1.2     1.0     0.5
-    LSCM 5k            10,078    0.011   0.021   0.046  0.019       2.5     2.1     1.2
-    Laplacian 50k      49,284    0.059   0.164   0.290  0.120      16.7    13.1     7.5
-    ARAP 50k           49,482    0.092   0.300   0.351  0.443      20.7    17.2     7.7
-    LSCM 50k          100,348    0.165   0.489   0.901  0.562      45.4    31.3    18.6
-    Laplacian 200k    198,916    0.348   1.242   1.734  1.099      96.2    69.3    36.4
-    ARAP 200k         197,942    0.539   1.971   2.184  3.581     109.5    82.3    38.8
-    LSCM 200k         401,404    0.856   3.408   5.601  4.389     203.8   143.9    89.0
+                                      factor (s)                          solve, 3 rhs (ms)
+    system           unknowns  cholmod multifr. superlu cholespy   cholmod multifr. superlu cholespy
+    Laplacian 5k        4,761    0.005   0.008   0.009   0.018       1.5      1.6      1.1      0.5
+    ARAP 5k             4,954    0.007   0.009   0.012   0.018       1.4      1.3      1.2      0.5
+    LSCM 5k            10,078    0.011   0.016   0.021   0.046       2.7      2.5      2.1      1.0
+    Laplacian 50k      49,284    0.062   0.092   0.161   0.293      16.0     14.7     12.4      7.1
+    ARAP 50k           49,482    0.095   0.138   0.315   0.369      20.2     19.8     17.7      8.3
+    LSCM 50k          100,348    0.176   0.286   0.527   0.944      50.3     38.6     32.5     20.0
+    Laplacian 200k    198,916    0.370   0.539   1.314   1.842     102.8     72.3     72.6     37.8
+    ARAP 200k         197,942    0.587   0.804   2.175   2.375     116.4     89.9     91.9     39.4
+    LSCM 200k         401,404    0.946   1.627   3.726   6.005     221.2    174.0    154.0     87.6
 
-(cvxopt 1.3.3, scipy 1.17.1, cholespy 2.2.0, qdldl 0.1.9; residuals ``‖A x - b‖∞ / ‖b‖∞``
-at most 1e-13, 1e-7 for the ill-conditioned LSCM matrices, alike for every backend.)
+(cvxopt 1.3.3, scipy 1.17.1, cholespy 2.2.0; residuals ``‖A x - b‖∞ / ‖b‖∞`` at most
+3e-13, 8e-8 for the ill-conditioned LSCM matrices; the multifrontal Cholesky's are 1-4×
+SuperLU's, CHOLMOD's and cholespy's 1-5×.)
 
+* CHOLMOD, when the extra is installed, factors fastest: 1.4-1.7× faster than the
+  multifrontal Cholesky and 2.6-3.9× faster than SuperLU at 50k and 200k vertices, so it
+  leads :data:`BACKENDS`; its solves of 3 right-hand sides are the slowest (cvxopt's
+  ``cholmod.solve`` solves one column at a time), so it comes last in :data:`SOLVE_ORDER`.
+* The multifrontal Cholesky factors 1.1-1.3× faster than SuperLU at 5k and 1.7-2.7×
+  faster at 50k and 200k, so it comes second; its solves of 3 right-hand sides are
+  1.1-1.5× slower than SuperLU's at 5k and 50k and 0.98-1.13× at 200k (its solves of one
+  are within 15 % of SuperLU's either way), so SuperLU comes before it in
+  :data:`SOLVE_ORDER`: factor plus ``k`` solves, SuperLU is the faster from ``k`` =
+  30-105 on the 50k and 200k rows, never on two of them (median 94): :data:`BREAK_EVEN`.
 * SuperLU factors faster than cholespy in all 9 systems (1.1-2.2×), so it comes before it
   for one-shot solves (factor once, solve once).
-* cholespy solves 1.6-2.2× faster than SuperLU and 2.1-2.8× faster than CHOLMOD with 3
-  right-hand sides (cvxopt's ``cholmod.solve`` solves one column at a time), so it leads
-  :data:`SOLVE_ORDER` (ARAP's iterations, a factorization kept for many solves). Factor
-  plus ``k`` solves, cholespy is the faster from ``k`` = 20-41 (median 24) against CHOLMOD
-  and from 5-40 (median 19) against SuperLU on the 50k and 200k rows: :data:`BREAK_EVEN`.
-* CHOLMOD, when the extra is installed, factors 2.8-4.0× faster than SuperLU at 50k and
-  200k vertices (1.8-2.0× at 5k), so it leads :data:`BACKENDS`; its solves are no faster
-  than SuperLU's, so it comes last in :data:`SOLVE_ORDER`.
-* qdldl (Apache-2.0, LDLᵀ with an AMD ordering, wheels) factors the 5k systems and the
-  50k and 200k grids 1.1-1.4× faster than SuperLU, and is 1.1-1.3× slower on the 50k and
-  200k LSCM matrices and 1.5-1.8× on the torus at 50k and 200k (its factorization has no
-  supernodes): no order of the two is the faster on every system, so it is not a
-  dependency; the bench still times it when it is installed.
+* cholespy solves 1.6-2.4× faster than SuperLU and 2.3-3.0× faster than CHOLMOD with 3
+  right-hand sides, so it leads :data:`SOLVE_ORDER` (ARAP's iterations, a factorization
+  kept for many solves). Factor plus ``k`` solves, cholespy is the faster from ``k`` =
+  23-38 (median 24) against CHOLMOD and from 4-34 (median 20) against SuperLU on the 50k
+  and 200k rows: :data:`BREAK_EVEN`.
+* qdldl (Apache-2.0, LDLᵀ with an AMD ordering, wheels; an earlier run, not installed for
+  this one) factored the 5k systems and the 50k and 200k grids 1.1-1.4× faster than
+  SuperLU, and was 1.1-1.3× slower on the 50k and 200k LSCM matrices and 1.5-1.8× on the
+  torus at 50k and 200k (its factorization has no supernodes): slower than the
+  multifrontal Cholesky at 50k and 200k by the two runs' ratios to SuperLU, so it is not
+  a dependency; the bench still times it when it is installed.
 * scikit-sparse (CHOLMOD) is GPL and has no wheels; SciPy's ``spsolve`` with UMFPACK
   needs scikit-umfpack (GPL); PARDISO needs Intel's MKL (not an open-source licence).
 
@@ -129,25 +143,26 @@ __all__ = ["Factor", "PinnedSystem", "BACKENDS", "BREAK_EVEN", "SOLVE_ORDER",
 #: Backends in order of preference: fastest factorization first (the module docstring has
 #: the measurements). ``"cholmod"`` and ``"cholespy"`` are there only with the ``cholmod``
 #: extra (cvxopt, cholespy).
-BACKENDS = ("cholmod", "superlu", "cholespy")
+BACKENDS = ("cholmod", "multifrontal", "superlu", "cholespy")
 #: The order for many solves: fastest repeated solves first.
-SOLVE_ORDER = ("cholespy", "superlu", "cholmod")
+SOLVE_ORDER = ("cholespy", "superlu", "multifrontal", "cholmod")
 #: From how many solves per factorization :data:`SOLVE_ORDER` beats :data:`BACKENDS`, by
 #: the backend that would factor (the module docstring has the measurements).
-BREAK_EVEN = {"cholmod": 24, "superlu": 19}
+BREAK_EVEN = {"cholmod": 24, "multifrontal": 94, "superlu": 19}
 #: Columns per panel of SuperLU's factorization (SciPy's copy defaults to 20, ``sp_ienv(1)``):
 #: panels of 6 factored the 5k-200k systems of ``bench/linsolve.py`` 4-15 % faster on one
 #: thread (the Laplacians 12-15 %, the ARAP blocks 4-5 %, LSCM's K 9 %); the supernodes and
 #: the fill do not depend on it, only the blocking of the updates.
 SUPERLU_PANEL = 6
 
-_MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "superlu": "scipy"}
+_MODULES = {"cholmod": "cvxopt", "cholespy": "cholespy", "multifrontal": "numba",
+            "superlu": "scipy"}
 #: The backends that factor real matrices only.
-_REAL_ONLY = ("cholespy",)
+_REAL_ONLY = ("cholespy", "multifrontal")
 #: How to get each backend, for the error that asks for one not installed.
 _INSTALL = {"cholmod": "pip install 'morphserve[cholmod]' (cvxopt, GPL-3.0)",
             "cholespy": "pip install 'morphserve[cholmod]' (cholespy, CHOLMOD inside: GPL-2.0)",
-            "superlu": "pip install scipy"}
+            "multifrontal": "pip install numba", "superlu": "pip install scipy"}
 
 
 @functools.cache
@@ -225,6 +240,21 @@ class _Cholespy:
         return x
 
 
+class _Multifrontal:
+    name = "multifrontal"
+
+    def __init__(self, a: sp.csc_array) -> None:
+        from algorithms.core.cholesky import NotPositiveDefinite, SparseCholesky
+
+        try:
+            self._factor = SparseCholesky(a)
+        except NotPositiveDefinite:
+            raise _NotPositiveDefinite from None
+
+    def solve(self, b: FloatArray) -> FloatArray:
+        return self._factor.solve(b)
+
+
 class _SuperLU:
     name = "superlu"
 
@@ -244,9 +274,9 @@ class _SuperLUPivoting(_SuperLU):
         self._lu = sla.splu(sp.csc_matrix(a), permc_spec="MMD_AT_PLUS_A")
 
 
-_Backend = _Cholmod | _Cholespy | _SuperLU
+_Backend = _Cholmod | _Cholespy | _Multifrontal | _SuperLU
 _CLASSES: dict[str, type[_Backend]] = {"cholmod": _Cholmod, "cholespy": _Cholespy,
-                                       "superlu": _SuperLU}
+                                       "multifrontal": _Multifrontal, "superlu": _SuperLU}
 
 
 class Factor:
@@ -259,7 +289,7 @@ class Factor:
         or complex Hermitian positive definite (see the module docstring; not
         ``"cholespy"``). A symmetric indefinite but non-singular matrix is accepted too: a
         Cholesky backend refuses it and SuperLU takes over.
-    backend : {"auto", "cholmod", "superlu", "cholespy"}, default "auto"
+    backend : {"auto", "cholmod", "multifrontal", "superlu", "cholespy"}, default "auto"
         ``"auto"`` takes the first installed of :data:`BACKENDS`, or of
         :data:`SOLVE_ORDER` when ``solves`` reaches the :data:`BREAK_EVEN` of the first
         installed of :data:`BACKENDS`. ``"cholmod"`` and ``"cholespy"`` need the optional

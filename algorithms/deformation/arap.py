@@ -28,7 +28,7 @@ from algorithms.deformation._common import (
 __all__ = ["ArapResult", "ArapSolver", "arap", "ENERGIES"]
 
 Energy = Literal["spokes_and_rims", "spokes"]
-Backend = Literal["auto", "cholmod", "cholespy", "superlu"]
+Backend = Literal["auto", "cholmod", "cholespy", "multifrontal", "superlu"]
 """``"auto"`` or one of :data:`algorithms.core.linsolve.BACKENDS`."""
 #: The accepted values of ``energy``.
 ENERGIES = get_args(Energy)
@@ -117,7 +117,7 @@ class ArapSolver:
         faces, Chao et al. 2010; libigl's default for triangle meshes). See :func:`arap`.
     similarity : bool, default False
         Fit a rotation and a non-negative scale per vertex (as-similar-as-possible).
-    backend : {"auto", "cholmod", "cholespy", "superlu"}, default "auto"
+    backend : {"auto", "cholmod", "cholespy", "multifrontal", "superlu"}, default "auto"
         The sparse Cholesky backend (:class:`~algorithms.core.linsolve.Factor`), chosen by
         ``"auto"`` for ``solves`` solves.
     solves : int, optional
@@ -125,7 +125,8 @@ class ArapSolver:
         iteration is one solve with ``d`` right-hand sides). Omitted: many (interactive
         handles, many targets), which favours the backend with the fastest solves
         (cholespy, with the ``cholmod`` extra: 2-3.6× faster than CHOLMOD through cvxopt,
-        which factors 3-8× faster; SuperLU alone in the default install); :func:`arap`
+        which factors 3-8× faster; in the default install SuperLU, whose solves are
+        faster than those of our own multifrontal Cholesky); :func:`arap`
         passes its ``max_iterations``.
 
     Attributes

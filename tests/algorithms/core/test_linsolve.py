@@ -60,10 +60,11 @@ def test_installed_backends():
 
 
 def test_backend_orders():
-    # bench/linsolve.py: SuperLU factors faster than cholespy, cholespy solves faster than
-    # either; CHOLMOD factors fastest, so it leads when installed
-    assert BACKENDS == ("cholmod", "superlu", "cholespy")
-    assert linsolve.SOLVE_ORDER[0] == "cholespy" and set(linsolve.SOLVE_ORDER) == set(BACKENDS)
+    # bench/linsolve.py: CHOLMOD factors fastest, so it leads when installed; then our
+    # multifrontal Cholesky, then SuperLU, then cholespy; cholespy solves fastest, then
+    # SuperLU, then the multifrontal Cholesky, then CHOLMOD
+    assert BACKENDS == ("cholmod", "multifrontal", "superlu", "cholespy")
+    assert linsolve.SOLVE_ORDER == ("cholespy", "superlu", "multifrontal", "cholmod")
 
 
 @pytest.mark.parametrize("backend", EVERY_BACKEND)
@@ -95,13 +96,22 @@ def test_factor_auto_takes_the_first_backend():
 def test_break_even_counts_follow_the_measured_table():
     # the module docstring's rows (factor s, solve of 3 rhs ms) at 50k and 200k vertices:
     # factor + k solves, cholespy is the cheaper from k = (Δ factor) / (Δ solve)
+    # (columns: factor cholmod 3, multifrontal 4, superlu 5, cholespy 6; solve 7-10)
     table = linsolve.__doc__.split("system           unknowns")[1].split("(cvxopt")[0]
     rows = [line.split() for line in table.strip().splitlines()[1:]]
     assert len(rows) == 9
-    for name, fac, sol in (("cholmod", 3, 7), ("superlu", 4, 8)):
-        counts = [(float(r[5]) - float(r[fac])) / ((float(r[sol]) - float(r[9])) / 1e3)
-                  for r in rows if r[1] != "5k"]
-        counts = [max(c, 0.0) for c in counts]      # < 0: cholespy factors faster too
+    for name, fac, sol, fast_fac, fast_sol in (("cholmod", 3, 7, 6, 10),
+                                               ("superlu", 5, 9, 6, 10),
+                                               ("multifrontal", 4, 8, 5, 9)):
+        # the multifrontal Cholesky against the first installed of SOLVE_ORDER after
+        # cholespy (which comes with cvxopt, and CHOLMOD leads then): SuperLU
+        counts = []
+        for r in rows:
+            if r[1] == "5k":
+                continue
+            gain = float(r[fast_fac]) - float(r[fac])
+            loss = (float(r[sol]) - float(r[fast_sol])) / 1e3
+            counts.append(max(gain / loss, 0.0) if loss > 0 else np.inf)  # inf: never
         assert min(counts) <= linsolve.BREAK_EVEN[name] <= np.median(counts) + 1, (name, counts)
 
 
@@ -164,7 +174,7 @@ def test_factor_rejects_non_square_and_bad_rhs():
 
 def test_factor_rejects_unknown_backend():
     with pytest.raises(InvalidInputError, match=r"`backend` to be one of 'auto', 'cholmod', "
-                       r"'superlu', 'cholespy', got 'pardiso'\."):
+                       r"'multifrontal', 'superlu', 'cholespy', got 'pardiso'\."):
         Factor(np.eye(2), backend="pardiso")
 
 
@@ -191,7 +201,8 @@ def hermitian(seed: int = 0) -> sp.csr_array:
     return (A + 1j * S + sp.diags_array(abs(S).sum(axis=1))).tocsr()
 
 
-@pytest.mark.parametrize("backend", [p for p in EVERY_BACKEND if p.values[0] != "cholespy"])
+@pytest.mark.parametrize("backend", [p for p in EVERY_BACKEND
+                                     if p.values[0] not in ("cholespy", "multifrontal")])
 def test_factor_solves_complex_hermitian_systems(backend):
     H = hermitian()
     dense = H.toarray()
@@ -426,6 +437,8 @@ _WITHOUT_CHOLMOD = textwrap.dedent("""
                        offsets=[-1, 0, 1], format="csc")
     b = np.random.default_rng(0).standard_normal((n, 3))
     f, g = Factor(a), Factor(a, solves=16)
+    many = Factor(a, solves=10_000).backend
+    complex_ = Factor(a.astype(complex)).backend
     lap = sp.csr_array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
     refused = []
     for backend in ("cholmod", "cholespy"):
@@ -439,7 +452,7 @@ _WITHOUT_CHOLMOD = textwrap.dedent("""
                            abs(g.solve(b) - sla.spsolve(a, b)).max())),
         "indefinite": Factor(sp.csr_array([[1.0, 2.0], [2.0, 1.0]])).backend,
         "pinned": PinnedSystem(lap, [0, 2]).solve([0.0, 1.0]).tolist(),
-        "refused": refused,
+        "refused": refused, "many": many, "complex": complex_,
         "loaded": [m for m in ("cvxopt", "cholespy") if sys.modules.get(m) is not None]}))
 """)
 
@@ -448,11 +461,15 @@ def test_default_install_works_without_cvxopt_and_cholespy():
     out = subprocess.run([sys.executable, "-c", _WITHOUT_CHOLMOD], cwd=ROOT, check=True,
                          capture_output=True, text=True, timeout=240).stdout
     got = json.loads(out.strip().splitlines()[-1])
-    assert got["available"] == ["superlu"]
-    assert got["auto"] == "superlu" and got["solve"] == "superlu"
+    assert got["available"] == ["multifrontal", "superlu"]
+    # SuperLU serves many solves (from BREAK_EVEN["multifrontal"])
+    assert got["auto"] == "multifrontal" and got["solve"] == "multifrontal"
+    assert got["many"] == "superlu" and got["complex"] == "superlu"
     assert got["error"] < 1e-10
     assert got["indefinite"] == "superlu"
-    assert got["pinned"] == [0.0, 0.5, 1.0]
+    # the pins exactly; the free vertex 1 / (√2 √2) (a Cholesky), 1/2 to rounding
+    assert got["pinned"][0] == 0.0 and got["pinned"][2] == 1.0
+    assert abs(got["pinned"][1] - 0.5) <= 1e-15
     assert len(got["refused"]) == 2
     assert all("pip install 'morphserve[cholmod]'" in e for e in got["refused"])
     assert got["loaded"] == []
