@@ -242,6 +242,13 @@ def nested_dissection(a: Any, leaf: int = LEAF) -> IntArray:
 # --- symbolic -----------------------------------------------------------------------------
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _placed(i: int, j: int, inverse: Any) -> tuple[int, int]:  # pragma: no cover - compiled
+    """Where the entry ``(i, j)`` of the lower triangle lands in that of ``P A Pᵀ``."""
+    r, c = inverse[i], inverse[j]
+    return (r, c) if r >= c else (c, r)
+
+
 @njit(cache=True, nogil=True)
 def _permute_lower(n: int, indptr: Any, indices: Any, data: Any,
                    inverse: Any) -> Any:  # pragma: no cover - compiled
@@ -253,9 +260,7 @@ def _permute_lower(n: int, indptr: Any, indices: Any, data: Any,
     for j in range(n):
         for p in range(indptr[j], indptr[j + 1]):
             if indices[p] >= j:
-                r, c = inverse[indices[p]], inverse[j]
-                if r < c:
-                    r, c = c, r
+                r, c = _placed(indices[p], j, inverse)
                 count[c + 1] += 1
                 rcount[r + 1] += 1
     for j in range(n):
@@ -270,9 +275,7 @@ def _permute_lower(n: int, indptr: Any, indices: Any, data: Any,
     for j in range(n):
         for p in range(indptr[j], indptr[j + 1]):
             if indices[p] >= j:
-                r, c = inverse[indices[p]], inverse[j]
-                if r < c:
-                    r, c = c, r
+                r, c = _placed(indices[p], j, inverse)
                 rows[fill[c]] = r
                 vals[fill[c]] = data[p]
                 fill[c] += 1
@@ -308,13 +311,18 @@ def _adjacency(n: int, indptr: Any, indices: Any) -> Any:  # pragma: no cover - 
 
 
 @njit(cache=True, nogil=True)
-def _etree(n: int, rptr: Any, rcols: Any) -> Any:  # pragma: no cover - compiled
-    """The elimination tree from the rows of the lower triangle (-1: a root)."""
+def _etree(n: int, ptr: Any, adj: Any, order: Any,
+           inverse: Any) -> Any:  # pragma: no cover - compiled
+    """The elimination tree of the matrix whose graph is ``ptr, adj`` (:func:`_adjacency`)
+    in the order ``order`` (``inverse`` its inverse), by new indices (-1: a root): row
+    ``k`` of the permuted lower triangle is the neighbours of ``order[k]`` that come
+    before it."""
     parent = np.full(n, -1, np.int64)
     ancestor = np.full(n, -1, np.int64)
     for k in range(n):
-        for p in range(rptr[k], rptr[k + 1]):
-            i = rcols[p]
+        v = order[k]
+        for p in range(ptr[v], ptr[v + 1]):
+            i = inverse[adj[p]]
             while i != -1 and i < k:
                 nxt = ancestor[i]
                 ancestor[i] = k
@@ -623,12 +631,16 @@ class SparseCholesky:
         nd = np.asarray(_nested_dissection(n, ptr, adj, LEAF))
         inverse = np.empty(n, np.int64)
         inverse[nd] = np.arange(n)
-        _, _, _, rptr, rcols = _permute_lower(n, indptr, indices, data, inverse)
-        post = _postorder(n, _etree(n, rptr, rcols))
+        tree = _etree(n, ptr, adj, nd, inverse)
+        post = _postorder(n, tree)
         self.perm = nd[post]
+        # the tree of the postordered matrix is the same tree, relabelled
+        rank = np.empty(n, np.int64)
+        rank[post] = np.arange(n)
+        up = tree[post]
+        parent = np.where(up >= 0, rank[np.maximum(up, 0)], -1)
         inverse[self.perm] = np.arange(n)
         cptr, crows, cvals, rptr, rcols = _permute_lower(n, indptr, indices, data, inverse)
-        parent = _etree(n, rptr, rcols)
         (self._first, self._sptr, self._srows, _, head,
          nxt) = _symbolic(n, cptr, crows, rptr, rcols, parent, RELAX)
         self._lptr, self._lx = _numeric(n, cptr, crows, cvals, self._first, self._sptr,

@@ -122,3 +122,33 @@ def test_only_the_lower_triangle_is_read():
     assert np.array_equal(SparseCholesky(sp.tril(a)).solve(b), full)
     assert np.array_equal(SparseCholesky(upper_garbage).solve(b), full)
     assert np.array_equal(nested_dissection(sp.tril(a)), nested_dissection(a))
+
+
+def test_the_postordered_tree_is_the_tree_relabelled():
+    """The factorization computes the elimination tree once, in the dissection's order,
+    and relabels it after postordering: the tree of the final order, computed afresh, is
+    the same."""
+    from algorithms.core import cholesky as ch
+
+    a = CASES["mesh 40x35"]
+    g = sp.csc_array(a)
+    n = g.shape[0]
+    ptr, adj = ch._adjacency(n, g.indptr.astype(np.int64), g.indices.astype(np.int64))
+    f = SparseCholesky(a)
+    inverse = np.empty(n, np.int64)
+    inverse[f.perm] = np.arange(n)
+    tree = ch._etree(n, ptr, adj, f.perm, inverse)
+    first = f._first
+    # each supernode's columns chain up the tree, and its last column's parent is the
+    # first column of a later supernode's run or a root
+    for s in range(first.shape[0] - 1):
+        cols = np.arange(first[s], first[s + 1])
+        assert np.all(tree[cols[:-1]] == cols[1:])
+    assert np.all((tree == -1) | (tree > np.arange(n)))
+    # and it is the factor's tree: a column's parent is its first entry below the diagonal
+    low = f.factor().tocsc()
+    low.sort_indices()
+    for j in range(n):
+        below = low.indices[low.indptr[j]:low.indptr[j + 1]]
+        below = below[below > j]
+        assert tree[j] == (below[0] if below.size else -1)
