@@ -152,3 +152,17 @@ def test_the_postordered_tree_is_the_tree_relabelled():
         below = low.indices[low.indptr[j]:low.indptr[j + 1]]
         below = below[below > j]
         assert tree[j] == (below[0] if below.size else -1)
+
+
+@pytest.mark.parametrize("where", ["diagonal", "off-diagonal"])
+def test_a_nan_is_refused_not_factored(where):
+    """A NaN anywhere reaches a later pivot (every entry of L below the diagonal updates
+    its row's pivot), and a NaN pivot is not positive: refused, as an indefinite matrix
+    is, rather than a factor of NaNs."""
+    a = _grid_laplacian(12).toarray()
+    if where == "diagonal":
+        a[7, 7] = np.nan
+    else:
+        a[7, 8] = a[8, 7] = np.nan
+    with pytest.raises(NotPositiveDefinite):
+        SparseCholesky(sp.csc_array(a))
